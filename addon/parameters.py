@@ -1,0 +1,34 @@
+"""The native material parameter declarations, read once from purlcore.
+
+Everything that lists yarn parameters in the add-on (properties, panel, export, presets) reads
+them from here, so the native declaration stays the only place they are written down.
+"""
+from . import native
+
+_tables = None  # model name -> list of parameter dicts
+
+
+def tables():
+    """{model: [{name, unit, components, min, max, default, doc, is_color}, ...]}; empty without purlcore."""
+    global _tables
+    if _tables is None:
+        core = native.purlcore()
+        if core is None:
+            return {}
+        _tables = {model: list(core.material_parameters(model)) for model in core.material_models()}
+    return _tables
+
+
+def models():
+    return list(tables().keys())
+
+
+def parameters(model):
+    return tables().get(model, [])
+
+
+def value_for_export(parameter, value):
+    """A property value as the scene format wants it: a number or a list of numbers."""
+    if parameter["components"] == 1:
+        return float(value)
+    return [float(v) for v in value]

@@ -1,0 +1,186 @@
+// The `purl` command: render a scene, inspect a BCC file, generate a swatch.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+#include <unistd.h>
+
+#include "io/image_io.h"
+#include "render/renderer.h"
+#include "scene/bcc.h"
+#include "scene/input_error.h"
+#include "scene/scene_json.h"
+#include "scene/swatch.h"
+
+namespace fs = std::filesystem;
+using namespace purl;
+
+namespace {
+
+RenderControl* g_control = nullptr;
+void on_interrupt(int) {
+    if (g_control) g_control->cancel = true;
+}
+
+std::string lowercase_extension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(c));
+    return ext;
+}
+
+// Draws a progress bar on stderr until `finished` is set.
+void show_progress(const RenderControl& control, const std::atomic<bool>& finished) {
+    const bool tty = isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
+    int last_decile = -1;
+    while (!finished) {
+        const double p = control.progress();
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (tty) {
+            const int filled = static_cast<int>(p * 30);
+            const double eta = p > 0.01 ? elapsed * (1 - p) / p : 0;
+            std::fprintf(stderr, "\r[%s%s] %5.1f%%  %.1fs elapsed, ~%.0fs left ",
+                         std::string(filled, '#').c_str(), std::string(30 - filled, ' ').c_str(), 100 * p,
+                         elapsed, eta);
+        } else if (static_cast<int>(p * 10) > last_decile) {
+            last_decile = static_cast<int>(p * 10);
+            std::fprintf(stderr, "rendering: %3d%% (%.1fs)\n", last_decile * 10, elapsed);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(tty ? 200 : 500));
+    }
+    if (tty) std::fprintf(stderr, "\r%*s\r", 70, "");
+}
+
+void print_stats(const RenderStats& s) {
+    std::fprintf(stderr,
+                 "build %.3f s, render %.3f s, %d threads\n"
+                 "samples %llu (%.0f/s), rays %llu, mean path length %.2f, invalid samples %llu\n"
+                 "control points %zu, acceleration structure %.2f MB\n",
+                 s.build_seconds, s.render_seconds, s.threads, (unsigned long long)s.samples,
+                 s.samples_per_second(), (unsigned long long)s.rays, s.mean_path_length,
+                 (unsigned long long)s.invalid_samples, s.control_points, s.acceleration_bytes / 1048576.0);
+}
+
+int run_render(const std::string& scene_path, const std::string& output, const std::string& png,
+               int spp, int threads, long long seed, bool stats) {
+    const std::string ext = lowercase_extension(output);
+    if (ext != ".exr" && ext != ".png")
+        throw InputError(output, "", "output must end in .exr or .png");
+    SceneDesc scene = load_scene_file(scene_path);
+    if (spp > 0) scene.render.spp = spp;
+    if (threads > 0) scene.render.threads = threads;
+    if (seed >= 0) scene.render.seed = static_cast<uint64_t>(seed);
+
+    Renderer renderer(std::move(scene));
+    RenderControl control;
+    g_control = &control;
+    std::signal(SIGINT, on_interrupt);
+    std::atomic<bool> finished{false};
+    std::thread progress(show_progress, std::cref(control), std::cref(finished));
+    RenderResult result;
+    try {
+        result = renderer.render(control);
+    } catch (...) {
+        finished = true;
+        progress.join();
+        throw;
+    }
+    finished = true;
+    progress.join();
+    g_control = nullptr;
+    if (result.cancelled) {
+        std::fprintf(stderr, "purl: render cancelled; nothing written\n");
+        return 130;
+    }
+    if (ext == ".exr") write_multilayer_exr(output, result.image, "ViewLayer");
+    else write_png(output, result.image);
+    if (!png.empty()) write_png(png, result.image);
+    if (stats) print_stats(result.stats);
+    std::fprintf(stderr, "purl: wrote %s%s%s (%d x %d, %d spp) in %.2f s\n", output.c_str(),
+                 png.empty() ? "" : " and ", png.c_str(), result.image.width, result.image.height,
+                 renderer.scene().render.spp, result.stats.render_seconds);
+    return 0;
+}
+
+int run_info(const std::string& path) {
+    const BccHeader header = read_bcc_header(path);
+    const YarnCurves curves = load_bcc(path, 1.0f);
+    Vec3 lo(1e30f), hi(-1e30f);
+    for (const Vec4& p : curves.control_points) {
+        lo = min(lo, p.xyz());
+        hi = max(hi, p.xyz());
+    }
+    size_t closed = 0;
+    for (uint8_t c : curves.closed) closed += c;
+    std::printf("file         %s\n", path.c_str());
+    std::printf("curve type   %s\n", header.type.c_str());
+    std::printf("up axis      %s (converted to Z-up)\n", header.up_axis == 1 ? "Y" : "Z");
+    std::printf("curves       %llu (%zu closed, %zu open)\n", (unsigned long long)header.curve_count, closed,
+                curves.curve_count() - closed);
+    std::printf("points       %llu in the file, %zu B-spline control points\n",
+                (unsigned long long)header.point_count, curves.point_count());
+    std::printf("bounds (Z-up) min %.4g %.4g %.4g  max %.4g %.4g %.4g  size %.4g x %.4g x %.4g\n", lo.x, lo.y,
+                lo.z, hi.x, hi.y, hi.z, hi.x - lo.x, hi.y - lo.y, hi.z - lo.z);
+    if (!header.info.empty()) std::printf("info         %s\n", header.info.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Purl: yarn-level cloth rendering with the BYSDF"};
+    app.require_subcommand(1);
+
+    std::string scene_path, output, png;
+    int spp = 0, threads = 0;
+    long long seed = -1;
+    bool stats = false;
+    CLI::App* render = app.add_subcommand("render", "Render a JSON scene to EXR/PNG");
+    render->add_option("scene", scene_path, "scene file (JSON)")->required();
+    render->add_option("-o,--output", output, "output image (.exr: multilayer passes, .png: sRGB)")->required();
+    render->add_option("--png", png, "also write an sRGB PNG here");
+    render->add_option("--spp", spp, "samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
+    render->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+    render->add_option("--seed", seed, "random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));
+    render->add_flag("--stats", stats, "print timing, ray and memory figures");
+
+    std::string info_path;
+    CLI::App* info = app.add_subcommand("info", "Describe a BCC curve file");
+    info->add_option("file", info_path, "BCC file")->required();
+
+    std::string kind, generate_output;
+    SwatchOptions swatch;
+    CLI::App* generate = app.add_subcommand("generate", "Write a yarn-level swatch as a BCC file");
+    generate->add_option("kind", kind, "knit, plain, twill or satin")->required();
+    generate->add_option("-o,--output", generate_output, "output BCC file")->required();
+    generate->add_option("--radius", swatch.yarn_radius, "yarn radius in metres");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    try {
+        if (*render) return run_render(scene_path, output, png, spp, threads, seed, stats);
+        if (*info) return run_info(info_path);
+        if (*generate) {
+            const YarnCurves curves = generate_swatch(parse_swatch_kind(kind), swatch);
+            write_bcc(generate_output, curves);
+            std::fprintf(stderr, "purl: wrote %s (%zu curves, %zu control points)\n", generate_output.c_str(),
+                         curves.curve_count(), curves.point_count());
+            return 0;
+        }
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "purl: error: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "purl: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

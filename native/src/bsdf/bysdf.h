@@ -1,0 +1,78 @@
+// BYSDF: the four-lobe yarn scattering model of Khattar et al. 2024, "A Multi-scale Yarn
+// Appearance Model with Fiber Details", section 4.1, in the local frame of a fiber hit:
+// normal +z, fiber tangent +x; wo (toward the viewer) and wi (toward the light) point away.
+//
+//   f_x^S  (1-B) k_x^S F G2 D(h) / (4 |cos_o cos_i|)                 rough reflection, alpha (along, across)
+//   f_y^S  (1-B) k_y^S tau_S (1-F) G2 D(h) eta^2 |wi.h| |wo.h| / (|cos_o cos_i| (wo.h + eta wi.h)^2)
+//                                                                      Walter 2007 transmission, alpha_t
+//   f_x^B  r B G k_x^B (w LS(wo,wi) + 1/pi) / (1 + w A_LS(cos_o))      back-scattered body
+//   f_y^B  (1-r) B G k_y^B tau_B / pi                                  forward-scattered body
+//
+// with G = max(G_p, floor_p) max(G_f, floor_f), tau = exp(-sigma_t chord)^N_i, chord the
+// distance |x - y| through the yarn divided by the yarn radius, A_LS the LS albedo (so the
+// body lobes reflect and transmit exactly B G k), r = (1-t) r0 + t F, and F = F(cos_o, eta)
+// the dielectric Fresnel reflectance at the viewing angle (one split for both specular lobes).
+// The surface is two-sided: when wo.z < 0 both directions are mirrored through z = 0.
+// Deviations from the paper and the renderer contract are in docs/bysdf.md.
+#pragma once
+#include <optional>
+
+#include "bsdf/bsdf_sample.h"
+#include "bsdf/bysdf_params.h"
+#include "bsdf/ggx.h"
+
+namespace purl {
+
+// What the implicit yarn geometry knows about one hit; plain inputs, no geometry types.
+struct BysdfShadingPoint {
+    float ply_shadow = 1.0f;    // G_p in [0, 1] (ply-shadowing map)
+    float fiber_shadow = 1.0f;  // G_f in [0, 1] (fiber-shadowing map)
+    int plies_crossed = 1;      // N_i >= 1, plies crossed along the ray's cross-section
+    int ply_index = 0;          // which ply was hit, selects the ply colour
+    Vec3 yarn_color{1.0f};      // per-yarn colour override; multiplies the body albedos
+};
+
+// Value and density at one pair of directions, computed together.
+struct BsdfEvalPdf {
+    Vec3 f;
+    float pdf = 0;
+};
+
+class Bysdf {
+public:
+    enum Lobe { kSpecularReflection = 0, kSpecularTransmission = 1, kBodyReflection = 2, kBodyTransmission = 3 };
+
+    Bysdf(const BysdfParams& params, const BysdfShadingPoint& point);
+
+    // Model value without the cosine, 1/sr. `chord` (|x - y| / yarn radius) only matters
+    // when wi is on the other side of the yarn; 0 means "no attenuation known yet".
+    Vec3 eval(Vec3 wo, Vec3 wi, float chord = 0.0f) const { return evaluate<false>(wo, wi, chord).f; }
+    // Solid-angle density of `sample`, 1/sr.
+    float pdf(Vec3 wo, Vec3 wi) const { return evaluate<true>(wo, wi, 0.0f).pdf; }
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, float chord = 0.0f) const { return evaluate<true>(wo, wi, chord); }
+
+    // Chooses a lobe with u_lobe in [0, 1), then a direction with u in [0, 1)^2. The
+    // returned f is unattenuated (chord 0); see docs/bysdf.md for transmission.
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const;
+
+    // Probabilities of choosing each Lobe for this wo (they sum to 1, or all are 0).
+    void lobe_probabilities(Vec3 wo, float prob[4]) const;
+    // exp(-sigma_t chord)^N_i for the specular (0) or body (1) transmission.
+    float transmittance(int body, float chord) const;
+
+private:
+    template <bool kWithPdf>
+    BsdfEvalPdf evaluate(Vec3 wo, Vec3 wi, float chord) const;
+    float body_reflection_share(float cos_o) const;
+
+    Ggx reflection_ggx_, transmission_ggx_;
+    float eta_ = 1.5f;
+    Vec3 k_spec_r_, k_spec_t_;  // (1 - B) k^S
+    Vec3 k_body_r_, k_body_t_;  // B G k^B x ply colour x yarn colour
+    float mean_spec_r_ = 0, mean_spec_t_ = 0, mean_body_r_ = 0, mean_body_t_ = 0;
+    float r0_ = 0.5f, r_fresnel_ = 0.0f;
+    float ls_weight_ = 1.0f;
+    float extinction_spec_ = 0, extinction_body_ = 0;  // sigma_t N_i, per unit chord
+};
+
+}  // namespace purl

@@ -1,0 +1,126 @@
+#include "io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+
+#include "scene/input_error.h"
+
+namespace purl {
+
+namespace fs = std::filesystem;
+using namespace OIIO;
+
+const ImagePass* RenderImage::find(const std::string& name) const {
+    for (const ImagePass& p : passes)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+namespace {
+
+// A sibling temporary path with the same extension, so OIIO picks the same format.
+std::string temporary_path(const std::string& path) {
+    const fs::path p(path);
+    return (p.parent_path() / (".tmp-" + p.stem().string() + p.extension().string())).string();
+}
+
+void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+    const std::string tmp = temporary_path(path);
+    try {
+        write(tmp);
+        fs::rename(tmp, path);
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw;
+    }
+}
+
+float srgb_encode(float linear) {
+    linear = std::max(0.0f, linear);
+    return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+}  // namespace
+
+void write_multilayer_exr(const std::string& path, const RenderImage& image, const std::string& layer) {
+    std::vector<std::string> names;
+    for (const ImagePass& pass : image.passes)
+        for (const std::string& c : pass.channel_names) names.push_back(layer + "." + pass.name + "." + c);
+    const int nchannels = static_cast<int>(names.size());
+    ImageSpec spec(image.width, image.height, nchannels, TypeDesc::FLOAT);
+    spec.channelnames = names;
+    spec.alpha_channel = -1;  // Blender reads channels by name; no OIIO alpha handling
+    spec.z_channel = -1;
+    spec.attribute("compression", "zip");
+
+    // Interleave all passes into one scanline buffer.
+    std::vector<float> data(size_t(image.width) * image.height * nchannels);
+    int offset = 0;
+    for (const ImagePass& pass : image.passes) {
+        const int pc = pass.channels();
+        for (size_t i = 0; i < size_t(image.width) * image.height; ++i)
+            for (int c = 0; c < pc; ++c) data[i * nchannels + offset + c] = pass.pixels[i * pc + c];
+        offset += pc;
+    }
+    write_atomically(path, [&](const std::string& tmp) {
+        auto out = ImageOutput::create(tmp);
+        if (!out) throw std::runtime_error(path + ": cannot create an EXR writer: " + OIIO::geterror());
+        if (!out->open(tmp, spec) || !out->write_image(TypeDesc::FLOAT, data.data()) || !out->close())
+            throw std::runtime_error(path + ": cannot write: " + out->geterror());
+    });
+}
+
+void write_png(const std::string& path, const RenderImage& image) {
+    const ImagePass* combined = image.find("Combined");
+    if (!combined) throw std::runtime_error(path + ": no Combined pass to write");
+    std::vector<unsigned char> bytes(size_t(image.width) * image.height * 4);
+    for (size_t i = 0; i < size_t(image.width) * image.height; ++i) {
+        const float* px = &combined->pixels[i * 4];
+        const float alpha = std::min(1.0f, std::max(0.0f, px[3]));
+        for (int c = 0; c < 3; ++c) {
+            const float straight = alpha > 0 ? px[c] / alpha : 0.0f;
+            bytes[i * 4 + c] = static_cast<unsigned char>(std::lround(255.0f * std::min(1.0f, srgb_encode(straight))));
+        }
+        bytes[i * 4 + 3] = static_cast<unsigned char>(std::lround(255.0f * alpha));
+    }
+    ImageSpec spec(image.width, image.height, 4, TypeDesc::UINT8);
+    write_atomically(path, [&](const std::string& tmp) {
+        auto out = ImageOutput::create(tmp);
+        if (!out) throw std::runtime_error(path + ": cannot create a PNG writer: " + OIIO::geterror());
+        if (!out->open(tmp, spec) || !out->write_image(TypeDesc::UINT8, bytes.data()) || !out->close())
+            throw std::runtime_error(path + ": cannot write: " + out->geterror());
+    });
+}
+
+ImageRGB read_image_rgb(const std::string& path) {
+    auto in = ImageInput::open(path);
+    if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
+    const ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw InputError(path, "", "image has no pixels");
+    if (size_t(spec.width) * spec.height > (size_t(1) << 28))
+        throw InputError(path, "", "image is too large (" + std::to_string(spec.width) + " x " +
+                                       std::to_string(spec.height) + ")");
+    std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, all.data()))
+        throw InputError(path, "", "cannot decode image: " + in->geterror());
+    ImageRGB image;
+    image.width = spec.width;
+    image.height = spec.height;
+    image.rgb.resize(size_t(spec.width) * spec.height * 3);
+    for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i)
+        for (int c = 0; c < 3; ++c) {
+            const float v = all[i * spec.nchannels + std::min(c, spec.nchannels - 1)];
+            if (!std::isfinite(v)) throw InputError(path, "pixel " + std::to_string(i), "value is not finite");
+            image.rgb[i * 3 + c] = v;
+        }
+    return image;
+}
+
+}  // namespace purl

@@ -1,0 +1,30 @@
+#include "render/film.h"
+
+namespace purl {
+
+RenderImage Film::to_image() const {
+    RenderImage image;
+    image.width = width_;
+    image.height = height_;
+    const size_t n = pixels_.size();
+    ImagePass combined{"Combined", {"R", "G", "B", "A"}, std::vector<float>(n * 4)};
+    ImagePass depth{"Depth", {"Z"}, std::vector<float>(n)};
+    ImagePass normal{"Normal", {"X", "Y", "Z"}, std::vector<float>(n * 3)};
+    ImagePass yarn_id{"YarnID", {"X"}, std::vector<float>(n)};
+    for (size_t i = 0; i < n; ++i) {
+        const PixelResult& p = pixels_[i];
+        combined.pixels[4 * i] = p.color.x;
+        combined.pixels[4 * i + 1] = p.color.y;
+        combined.pixels[4 * i + 2] = p.color.z;
+        combined.pixels[4 * i + 3] = p.alpha;
+        depth.pixels[i] = p.depth;
+        normal.pixels[3 * i] = p.normal.x;
+        normal.pixels[3 * i + 1] = p.normal.y;
+        normal.pixels[3 * i + 2] = p.normal.z;
+        yarn_id.pixels[i] = p.yarn_id;
+    }
+    image.passes = {std::move(combined), std::move(depth), std::move(normal), std::move(yarn_id)};
+    return image;
+}
+
+}  // namespace purl

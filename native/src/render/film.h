@@ -1,0 +1,36 @@
+// Per-pixel results of a render and their conversion to image passes.
+#pragma once
+#include <vector>
+
+#include "io/image_io.h"
+#include "math/vec.h"
+
+namespace purl {
+
+constexpr float kNoHitDepth = 1e10f;  // Cycles' Depth for pixels that see no surface
+
+struct PixelResult {
+    Vec3 color;        // premultiplied by alpha
+    float alpha = 0;
+    float depth = kNoHitDepth;  // camera-axis distance of the nearest first hit
+    Vec3 normal;       // mean world normal of first hits
+    float yarn_id = 0; // 1 + global curve id of the first hit of sample 0; 0 when none
+};
+
+class Film {
+public:
+    Film(int width, int height) : width_(width), height_(height), pixels_(size_t(width) * height) {}
+    int width() const { return width_; }
+    int height() const { return height_; }
+    PixelResult& at(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
+    const PixelResult& at(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
+
+    // Combined (RGBA), Depth (Z), Normal (XYZ), YarnID (X), rows top to bottom.
+    RenderImage to_image() const;
+
+private:
+    int width_, height_;
+    std::vector<PixelResult> pixels_;
+};
+
+}  // namespace purl

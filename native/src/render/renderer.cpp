@@ -1,0 +1,213 @@
+#include "render/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "math/rng.h"
+#include "render/film.h"
+#include "render/shading.h"
+
+namespace purl {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kTileSize = 16;
+constexpr int kRouletteDepth = 3;
+
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+float max_abs(Vec3 p) { return std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))); }
+
+// Distance to move a new ray's origin off the surface it leaves: float precision of the
+// position plus a small fraction of the yarn radius (Embree's curve hits are less exact).
+float offset_distance(const SurfaceHit& hit) {
+    return 64.0f * std::numeric_limits<float>::epsilon() * max_abs(hit.position) + 1e-2f * hit.radius;
+}
+
+Vec3 offset_origin(const SurfaceHit& hit, Vec3 direction) {
+    const float eps = offset_distance(hit);
+    return hit.position + hit.geometric_normal * (dot(hit.geometric_normal, direction) >= 0 ? eps : -eps);
+}
+
+}  // namespace
+
+struct Renderer::PathTotals {
+    uint64_t rays = 0, interactions = 0, invalid = 0;
+};
+
+Renderer::Renderer(SceneDesc scene) : scene_(std::move(scene)), camera_(scene_.camera, scene_.film) {
+    const auto start = Clock::now();
+    geometry_ = std::make_unique<EmbreeScene>(scene_);
+    lights_ = std::make_unique<Lights>(scene_);
+    uint32_t base = 0;
+    for (const YarnSetDesc& y : scene_.yarns) {
+        yarn_id_base_.push_back(base);
+        base += static_cast<uint32_t>(y.curves.curve_count());
+    }
+    build_seconds_ = seconds_since(start);
+}
+
+Renderer::~Renderer() = default;
+
+RenderResult Renderer::render(RenderControl& control) const { return render(scene_.render, control); }
+
+RenderResult Renderer::render(const RenderSettings& settings, RenderControl& control) const {
+    const int width = scene_.film.width, height = scene_.film.height;
+    const int tiles_x = (width + kTileSize - 1) / kTileSize, tiles_y = (height + kTileSize - 1) / kTileSize;
+    Film film(width, height);
+    control.pixels_done = 0;
+    control.pixels_total = uint64_t(width) * height;
+
+    std::atomic<uint64_t> rays{0}, interactions{0}, invalid{0};
+    const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
+    tbb::task_arena arena(threads);
+    const auto start = Clock::now();
+    arena.execute([&] {
+        tbb::parallel_for(
+            tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
+            [&](const tbb::blocked_range<int>& range) {
+                for (int tile = range.begin(); tile != range.end(); ++tile) {
+                    PathTotals totals;
+                    const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
+                    const int x1 = std::min(width, x0 + kTileSize), y1 = std::min(height, y0 + kTileSize);
+                    for (int y = y0; y < y1; ++y)
+                        for (int x = x0; x < x1; ++x) {
+                            if (control.cancel.load(std::memory_order_relaxed)) return;
+                            render_pixel(x, y, settings, film.at(x, y), totals);
+                            control.pixels_done.fetch_add(1, std::memory_order_relaxed);
+                        }
+                    rays += totals.rays;
+                    interactions += totals.interactions;
+                    invalid += totals.invalid;
+                }
+            },
+            tbb::simple_partitioner());
+    });
+
+    RenderResult result;
+    result.cancelled = control.cancel.load();
+    result.image = film.to_image();
+    RenderStats& s = result.stats;
+    s.build_seconds = build_seconds_;
+    s.render_seconds = seconds_since(start);
+    s.samples = uint64_t(width) * height * settings.spp;
+    s.rays = rays;
+    s.mean_path_length = s.samples ? double(interactions) / double(s.samples) : 0.0;
+    s.invalid_samples = invalid;
+    s.acceleration_bytes = geometry_->acceleration_bytes();
+    for (const YarnSetDesc& y : scene_.yarns) s.control_points += y.curves.point_count();
+    s.threads = threads;
+    return result;
+}
+
+void Renderer::render_pixel(int px, int py, const RenderSettings& settings, PixelResult& out,
+                            PathTotals& totals) const {
+    Vec3 color_sum(0.0f), normal_sum(0.0f);
+    double alpha_sum = 0;
+    for (int s = 0; s < settings.spp; ++s) {
+        Rng rng = pixel_sample_rng(settings.seed, uint32_t(px), uint32_t(py), uint32_t(s));
+        const float jx = rng.next_float(), jy = rng.next_float();
+        Ray ray = camera_.generate_ray(px + jx, py + jy);
+
+        Vec3 radiance(0.0f), throughput(1.0f);
+        float alpha = 1.0f;
+        float previous_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that made `ray`
+        for (int depth = 0; depth < settings.max_depth; ++depth) {
+            SurfaceHit hit;
+            ++totals.rays;
+            const bool hit_surface = geometry_->intersect(ray, hit);
+            const float surface_t = hit_surface ? hit.t : ray.tmax;
+
+            // Emitters not in Embree (area and sphere lights) in front of the surface.
+            EmitterHit emitter;
+            if (lights_->intersect_emitter(ray, surface_t, emitter)) {
+                const float w = depth == 0 ? 1.0f : power_heuristic(previous_pdf, emitter.pdf);
+                radiance += throughput * emitter.radiance * w;
+                break;
+            }
+            if (!hit_surface) {
+                if (depth == 0) {
+                    if (scene_.film.transparent) alpha = 0.0f;
+                    else radiance += lights_->background(ray.direction);
+                } else {
+                    lights_->for_each_escaped(ray.direction, [&](const EmitterHit& e) {
+                        radiance += throughput * e.radiance * power_heuristic(previous_pdf, e.pdf);
+                    });
+                }
+                break;
+            }
+            ++totals.interactions;
+            const Vec3 wo = -ray.direction;
+            const ShadingPoint sp = make_shading_point(scene_, hit, wo);
+            if (depth == 0) {
+                out.depth = std::min(out.depth, camera_.view_depth(hit.position));
+                normal_sum += sp.frame.n;
+                if (s == 0 && hit.kind == SurfaceKind::Yarn)
+                    out.yarn_id = float(yarn_id_base_[hit.object] +
+                                        uint32_t(scene_.yarns[hit.object].curves.curve_ids[hit.curve]) + 1);
+            }
+            if (sp.holdout) {  // cut out of the image, and black to everything else
+                if (depth == 0) alpha = 0.0f;
+                break;
+            }
+
+            // Next-event estimation.
+            LightSample ls;
+            const float u_light = rng.next_float();
+            const Vec2 u_light2(rng.next_float(), rng.next_float());
+            if (lights_->sample(hit.position, u_light, u_light2, ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
+                const Vec3 f = sp.eval(wo, ls.wi);
+                const float cos_i = std::fabs(dot(ls.wi, sp.frame.n));
+                if (!is_black(f) && cos_i > 0) {
+                    const Vec3 origin = offset_origin(hit, ls.wi);
+                    ++totals.rays;
+                    if (!geometry_->occluded(origin, ls.wi, 0.0f, ls.distance * (1 - 1e-4f))) {
+                        const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, sp.pdf(wo, ls.wi));
+                        radiance += throughput * f * ls.radiance * (cos_i * w / ls.pdf);
+                    }
+                }
+            }
+
+            // Continue the path by sampling the BSDF.
+            const float u_lobe = rng.next_float();
+            const Vec2 u_dir(rng.next_float(), rng.next_float());
+            const std::optional<BsdfSample> bs = sp.sample(wo, u_lobe, u_dir);
+            if (!bs || !(bs->pdf > 0)) break;
+            throughput *= bs->f * (std::fabs(dot(bs->wi, sp.frame.n)) / bs->pdf);
+            if (is_black(throughput)) break;
+            previous_pdf = bs->pdf;
+            if (depth + 1 >= kRouletteDepth) {
+                const float survive = std::min(0.95f, max_component(throughput));
+                if (rng.next_float() >= survive) break;
+                throughput = throughput / survive;
+            }
+            ray = Ray();
+            ray.origin = offset_origin(hit, bs->wi);
+            ray.direction = bs->wi;
+        }
+        if (!is_finite(radiance) || radiance.x < 0 || radiance.y < 0 || radiance.z < 0) {
+            ++totals.invalid;
+            continue;  // dropped: counts as black
+        }
+        if (settings.clamp > 0 && max_component(radiance) > settings.clamp)
+            radiance = radiance * (settings.clamp / max_component(radiance));
+        color_sum += radiance * alpha;
+        alpha_sum += alpha;
+    }
+    const float inv = 1.0f / float(settings.spp);
+    out.color = color_sum * inv;
+    out.alpha = float(alpha_sum * inv);
+    const float nl = length(normal_sum);
+    out.normal = nl > 0 ? normal_sum / nl : Vec3(0.0f);
+}
+
+}  // namespace purl

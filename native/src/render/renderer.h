@@ -1,0 +1,70 @@
+// The path tracer: camera rays with differentials, next-event estimation with multiple
+// importance sampling, tiles in parallel on oneTBB. The image is a function of
+// (scene, seed, spp) whatever the thread count.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+#include "io/image_io.h"
+#include "render/camera.h"
+#include "render/lights.h"
+#include "scene/embree_scene.h"
+#include "scene/scene.h"
+
+namespace purl {
+
+// Shared between the render and whoever watches it (CLI progress bar, Python, Blender).
+struct RenderControl {
+    std::atomic<bool> cancel{false};
+    std::atomic<uint64_t> pixels_done{0};
+    std::atomic<uint64_t> pixels_total{1};
+    double progress() const {
+        return static_cast<double>(pixels_done.load()) / static_cast<double>(std::max<uint64_t>(1, pixels_total.load()));
+    }
+};
+
+struct RenderStats {
+    double build_seconds = 0;      // Embree and light set-up
+    double render_seconds = 0;
+    uint64_t samples = 0;          // camera samples taken
+    uint64_t rays = 0;             // all rays traced: camera, bounce and shadow
+    double mean_path_length = 0;   // surface interactions per camera sample
+    uint64_t invalid_samples = 0;  // NaN/Inf samples caught and dropped
+    size_t acceleration_bytes = 0;
+    size_t control_points = 0;
+    int threads = 0;
+    double samples_per_second() const { return render_seconds > 0 ? samples / render_seconds : 0; }
+};
+
+struct RenderResult {
+    RenderImage image;
+    RenderStats stats;
+    bool cancelled = false;
+};
+
+class Renderer {
+public:
+    explicit Renderer(SceneDesc scene);
+    ~Renderer();
+    const SceneDesc& scene() const { return scene_; }
+    const Camera& camera() const { return camera_; }
+
+    // Renders with the scene's settings; `control` may cancel it from another thread.
+    RenderResult render(RenderControl& control) const;
+    RenderResult render(const RenderSettings& settings, RenderControl& control) const;
+
+private:
+    struct PathTotals;
+    void render_pixel(int x, int y, const RenderSettings& settings, struct PixelResult& out,
+                      PathTotals& totals) const;
+
+    SceneDesc scene_;
+    Camera camera_;
+    std::unique_ptr<EmbreeScene> geometry_;
+    std::unique_ptr<Lights> lights_;
+    std::vector<uint32_t> yarn_id_base_;  // per yarn set: ids of earlier sets' curves
+    double build_seconds_ = 0;
+};
+
+}  // namespace purl

@@ -1,0 +1,93 @@
+// The scene as every front door (CLI, Python, Blender) describes it: plain data, no Embree.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "bsdf/placeholder.h"
+#include "math/transform.h"
+#include "scene/curves.h"
+
+namespace purl {
+
+enum class SensorFit { Auto, Horizontal, Vertical };
+
+struct CameraDesc {
+    Transform to_world;          // camera looks down its local -Z, +Y up (Blender)
+    float lens_mm = 50.0f;
+    float sensor_width_mm = 36.0f;
+    float sensor_height_mm = 24.0f;
+    SensorFit sensor_fit = SensorFit::Auto;
+    float shift_x = 0.0f, shift_y = 0.0f;  // in units of the larger image side
+    float clip_start = 0.1f, clip_end = 1000.0f;  // m
+};
+
+struct FilmDesc {
+    int width = 640, height = 480;  // px
+    float pixel_aspect_x = 1.0f, pixel_aspect_y = 1.0f;
+    bool transparent = false;
+};
+
+struct RenderSettings {
+    int spp = 64;
+    uint64_t seed = 0;
+    int max_depth = 8;
+    int threads = 0;      // 0: all cores
+    float clamp = 0.0f;   // 0: off
+};
+
+enum class LightType { Point, Spot, Sun, Area };
+enum class AreaShape { Square, Rectangle, Disk, Ellipse };
+
+struct LightDesc {
+    LightType type = LightType::Point;
+    Transform to_world;  // spot, sun and area lights emit along local -Z
+    Vec3 color{1.0f};
+    float power = 1000.0f;    // W (point, spot, area)
+    float radius = 0.0f;      // m (point, spot)
+    float spot_size = 0.785398f;  // rad, full cone angle
+    float spot_blend = 0.15f;
+    float strength = 1.0f;    // W/m^2 (sun)
+    float angle = 0.0f;       // rad, angular diameter (sun)
+    AreaShape shape = AreaShape::Square;
+    float size = 1.0f, size_y = 1.0f;  // m
+};
+
+struct WorldDesc {
+    Vec3 color{0.0f};
+    float strength = 1.0f;
+    std::string texture;  // lat-long image path, empty for none
+    float rotation_z = 0.0f;
+};
+
+struct MaterialDesc {
+    std::string model = "placeholder";
+    PlaceholderParams placeholder;
+};
+
+struct YarnSetDesc {
+    std::string name;
+    YarnCurves curves;  // world space
+    MaterialDesc material;
+    int id = 0;
+};
+
+struct MeshDesc {
+    std::string name;
+    std::vector<Vec3> vertices;      // world space
+    std::vector<uint32_t> indices;   // 3 per triangle
+    Vec3 color{0.8f};
+    bool holdout = false;
+};
+
+struct SceneDesc {
+    std::string source;  // file name or "<python>", for messages
+    CameraDesc camera;
+    FilmDesc film;
+    RenderSettings render;
+    WorldDesc world;
+    std::vector<LightDesc> lights;
+    std::vector<YarnSetDesc> yarns;
+    std::vector<MeshDesc> meshes;
+};
+
+}  // namespace purl

@@ -1,0 +1,255 @@
+#include "scene/scene_json.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bsdf/params.h"
+#include "scene/bcc.h"
+#include "scene/json_reader.h"
+#include "scene/obj_reader.h"
+#include "scene/swatch.h"
+
+namespace purl {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr float kHuge = 1e30f;
+
+std::string resolve(const std::string& base_dir, const std::string& path) {
+    if (path.empty() || fs::path(path).is_absolute() || base_dir.empty()) return path;
+    return (fs::path(base_dir) / path).string();
+}
+
+void read_camera(JsonObject o, CameraDesc& cam) {
+    cam.to_world = o.placement();
+    cam.lens_mm = o.number("lens", cam.lens_mm, 0.01f, 1e5f);
+    cam.sensor_width_mm = o.number("sensor_width", cam.sensor_width_mm, 0.01f, 1e4f);
+    cam.sensor_height_mm = o.number("sensor_height", cam.sensor_height_mm, 0.01f, 1e4f);
+    const std::string fit = o.choice("sensor_fit", "AUTO", {"AUTO", "HORIZONTAL", "VERTICAL"});
+    cam.sensor_fit = fit == "AUTO" ? SensorFit::Auto
+                                   : (fit == "HORIZONTAL" ? SensorFit::Horizontal : SensorFit::Vertical);
+    cam.shift_x = o.number("shift_x", 0.0f, -100.0f, 100.0f);
+    cam.shift_y = o.number("shift_y", 0.0f, -100.0f, 100.0f);
+    cam.clip_start = o.number("clip_start", cam.clip_start, 0.0f, kHuge);
+    cam.clip_end = o.number("clip_end", cam.clip_end, 0.0f, kHuge);
+    if (!(cam.clip_end > cam.clip_start)) o.fail("clip_end", "must be greater than clip_start");
+    o.finish();
+}
+
+void read_film(JsonObject o, FilmDesc& film) {
+    film.width = o.integer("width", film.width, 1, 32768);
+    film.height = o.integer("height", film.height, 1, 32768);
+    film.pixel_aspect_x = o.number("pixel_aspect_x", 1.0f, 1e-3f, 1e3f);
+    film.pixel_aspect_y = o.number("pixel_aspect_y", 1.0f, 1e-3f, 1e3f);
+    film.transparent = o.boolean("transparent", false);
+    o.finish();
+}
+
+void read_render(JsonObject o, RenderSettings& r) {
+    r.spp = o.integer("spp", r.spp, 1, 1 << 20);
+    r.seed = static_cast<uint64_t>(o.integer("seed", 0, 0, 2147483647));
+    r.max_depth = o.integer("max_depth", r.max_depth, 1, 1024);
+    r.threads = o.integer("threads", 0, 0, 4096);
+    r.clamp = o.number("clamp", 0.0f, 0.0f, kHuge);
+    o.finish();
+}
+
+void read_world(JsonObject o, WorldDesc& w, const std::string& base_dir) {
+    w.color = o.vec3("color", w.color);
+    w.strength = o.number("strength", 1.0f, 0.0f, kHuge);
+    w.texture = resolve(base_dir, o.string("texture", ""));
+    w.rotation_z = o.number("rotation_z", 0.0f, -kHuge, kHuge);
+    if (w.color.x < 0 || w.color.y < 0 || w.color.z < 0) o.fail("color", "must not be negative");
+    o.finish();
+}
+
+LightDesc read_light(JsonObject o) {
+    LightDesc l;
+    const std::string type = o.choice("type", "", {"point", "spot", "sun", "area"});
+    l.type = type == "point" ? LightType::Point
+             : type == "spot" ? LightType::Spot
+             : type == "sun"  ? LightType::Sun
+                              : LightType::Area;
+    l.to_world = o.placement();
+    l.color = o.vec3("color", Vec3(1.0f));
+    if (l.color.x < 0 || l.color.y < 0 || l.color.z < 0) o.fail("color", "must not be negative");
+    if (l.type == LightType::Sun) {
+        l.strength = o.number("strength", 1.0f, 0.0f, kHuge);
+        l.angle = o.number("angle", 0.0f, 0.0f, kPi);
+    } else {
+        l.power = o.number("power", 1000.0f, 0.0f, kHuge);
+    }
+    if (l.type == LightType::Point || l.type == LightType::Spot)
+        l.radius = o.number("radius", 0.0f, 0.0f, kHuge);
+    if (l.type == LightType::Spot) {
+        l.spot_size = o.number("spot_size", l.spot_size, 1e-4f, kPi);
+        l.spot_blend = o.number("spot_blend", l.spot_blend, 0.0f, 1.0f);
+    }
+    if (l.type == LightType::Area) {
+        const std::string shape = o.choice("shape", "SQUARE", {"SQUARE", "RECTANGLE", "DISK", "ELLIPSE"});
+        l.shape = shape == "SQUARE" ? AreaShape::Square
+                  : shape == "RECTANGLE" ? AreaShape::Rectangle
+                  : shape == "DISK" ? AreaShape::Disk
+                                    : AreaShape::Ellipse;
+        l.size = o.number("size", 1.0f, 1e-6f, kHuge);
+        const bool two_sizes = l.shape == AreaShape::Rectangle || l.shape == AreaShape::Ellipse;
+        l.size_y = two_sizes ? o.number("size_y", l.size, 1e-6f, kHuge) : l.size;
+    }
+    o.finish();
+    return l;
+}
+
+// Reads every declared parameter of a table into the struct at `params`.
+template <class Params>
+void read_params(JsonObject& o, const std::vector<ParamInfo>& table, Params& params) {
+    for (const ParamInfo& info : table) {
+        if (!o.has(info.name)) continue;
+        float* field = param_field(params, info);
+        if (info.components == 1) {
+            *field = o.number(info.name, *field, info.min_value, info.max_value);
+        } else {
+            o.floats(info.name, field, info.components);
+            for (int c = 0; c < info.components; ++c)
+                if (field[c] < info.min_value || field[c] > info.max_value)
+                    o.fail(info.name, "component " + std::to_string(c) + " must be in [" +
+                                          std::to_string(info.min_value) + ", " +
+                                          std::to_string(info.max_value) + "]");
+        }
+    }
+}
+
+MaterialDesc read_material(JsonObject o) {
+    MaterialDesc m;
+    m.model = o.choice("model", "placeholder", {"placeholder"});
+    apply_defaults(m.placeholder, placeholder_param_table());
+    read_params(o, placeholder_param_table(), m.placeholder);
+    o.finish();
+    return m;
+}
+
+void transform_curves(YarnCurves& curves, const Transform& t) {
+    const float scale = t.uniform_scale();
+    for (Vec4& p : curves.control_points) p = Vec4(t.point(p.xyz()), p.w * scale);
+}
+
+YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays) {
+    YarnSetDesc y;
+    y.name = o.string("name", o.path());
+    y.id = o.integer("id", 0, 0, 1 << 20);
+    const int sources = int(o.has("bcc")) + int(o.has("arrays")) + int(o.has("generate"));
+    if (sources != 1) o.fail(nullptr, "needs exactly one of bcc, arrays, generate");
+    if (o.has("bcc")) {
+        const float radius = o.required_number("radius", 1e-9f, kHuge);
+        y.curves = load_bcc(resolve(base_dir, o.string("bcc", "")), radius);
+    } else if (o.has("arrays")) {
+        const std::string name = o.string("arrays", "");
+        if (!arrays || !arrays->yarns) o.fail("arrays", "names in-memory arrays, but none were given");
+        y.curves = arrays->yarns(name);
+        const float scale = o.number("radius_scale", 1.0f, 1e-9f, kHuge);
+        for (Vec4& p : y.curves.control_points) p.w *= scale;
+    } else {
+        JsonObject g = o.object("generate");
+        SwatchOptions options;
+        const SwatchKind kind = parse_swatch_kind(g.string("kind", "knit"));
+        options.yarn_radius = g.number("radius", options.yarn_radius, 1e-9f, kHuge);
+        g.finish();
+        y.curves = generate_swatch(kind, options);
+    }
+    if (o.has("matrix_world")) transform_curves(y.curves, o.transform("matrix_world"));
+    if (o.has("material")) y.material = read_material(o.object("material"));
+    else apply_defaults(y.material.placeholder, placeholder_param_table());
+    o.finish();
+    validate_curves(y.curves, o.file() + ": " + o.path());
+    return y;
+}
+
+MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays) {
+    MeshDesc m;
+    m.name = o.string("name", o.path());
+    const int sources = int(o.has("obj")) + int(o.has("arrays")) + int(o.has("vertices"));
+    if (sources != 1) o.fail(nullptr, "needs exactly one of obj, arrays, vertices + triangles");
+    if (o.has("obj")) {
+        read_obj(resolve(base_dir, o.string("obj", "")), m);
+    } else if (o.has("arrays")) {
+        const std::string name = o.string("arrays", "");
+        if (!arrays || !arrays->meshes) o.fail("arrays", "names in-memory arrays, but none were given");
+        m = arrays->meshes(name);
+    } else {
+        const json& v = o.raw("vertices");
+        const json& t = o.raw("triangles");
+        if (!v.is_array() || !t.is_array()) o.fail("vertices", "vertices and triangles must be arrays");
+        try {
+            for (const json& p : v) m.vertices.emplace_back(p.at(0).get<float>(), p.at(1).get<float>(),
+                                                             p.at(2).get<float>());
+            for (const json& tri : t)
+                for (int k = 0; k < 3; ++k) m.indices.push_back(tri.at(k).get<uint32_t>());
+        } catch (const json::exception&) {
+            o.fail("vertices", "vertices must be [x,y,z] numbers and triangles [i,j,k] indices");
+        }
+    }
+    for (uint32_t index : m.indices)
+        if (index >= m.vertices.size()) o.fail(nullptr, "triangle index out of range");
+    for (const Vec3& p : m.vertices)
+        if (!is_finite(p)) o.fail(nullptr, "vertex position is not finite");
+    if (o.has("matrix_world")) {
+        const Transform t = o.transform("matrix_world");
+        for (Vec3& p : m.vertices) p = t.point(p);
+    }
+    m.color = o.vec3("color", m.color);
+    m.holdout = o.boolean("holdout", false);
+    o.finish();
+    return m;
+}
+
+}  // namespace
+
+SceneDesc parse_scene_text(const std::string& text, const std::string& source,
+                           const std::string& base_dir, const ExternalArrays* arrays) {
+    json root;
+    try {
+        root = json::parse(text);
+    } catch (const json::parse_error& e) {
+        // nlohmann counts bytes from 1; report the line and column a person can find.
+        const size_t end = std::min<size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+        size_t line = 1, column = 1;
+        for (size_t i = 0; i < end; ++i) {
+            if (text[i] == '\n') { ++line; column = 1; } else { ++column; }
+        }
+        const std::string what = e.what();
+        const size_t detail = what.find("syntax error");
+        throw InputError(source, "line " + std::to_string(line) + ", column " + std::to_string(column),
+                         "not valid JSON" + (detail == std::string::npos ? "" : " (" + what.substr(detail) + ")"));
+    }
+    SceneDesc scene;
+    scene.source = source;
+    JsonObject o(root, "", source);
+    o.integer("version", 1, 1, 1);
+    read_camera(o.object("camera"), scene.camera);
+    if (o.has("film")) read_film(o.object("film"), scene.film);
+    if (o.has("render")) read_render(o.object("render"), scene.render);
+    if (o.has("world")) read_world(o.object("world"), scene.world, base_dir);
+    for (JsonObject& l : o.array_of_objects("lights")) scene.lights.push_back(read_light(l));
+    for (JsonObject& y : o.array_of_objects("yarns"))
+        scene.yarns.push_back(read_yarn_set(y, base_dir, arrays));
+    for (JsonObject& m : o.array_of_objects("meshes"))
+        scene.meshes.push_back(read_mesh(m, base_dir, arrays));
+    o.finish();
+    if (scene.yarns.empty() && scene.meshes.empty())
+        throw InputError(source, "", "the scene has no yarns and no meshes");
+    return scene;
+}
+
+SceneDesc load_scene_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, "", "cannot open file");
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    return parse_scene_text(buffer.str(), path, fs::path(path).parent_path().string());
+}
+
+}  // namespace purl

@@ -1,0 +1,21 @@
+// Reads the JSON scene format of docs/scene-format.md into a SceneDesc.
+#pragma once
+#include <functional>
+#include <string>
+
+#include "scene/scene.h"
+
+namespace purl {
+
+// Where yarns and meshes named by {"arrays": "name"} come from (the Python module).
+struct ExternalArrays {
+    std::function<YarnCurves(const std::string& name)> yarns;
+    std::function<MeshDesc(const std::string& name)> meshes;
+};
+
+SceneDesc load_scene_file(const std::string& path);
+// `source` names the scene in messages; relative paths resolve against `base_dir`.
+SceneDesc parse_scene_text(const std::string& text, const std::string& source,
+                           const std::string& base_dir, const ExternalArrays* arrays = nullptr);
+
+}  // namespace purl

@@ -1,0 +1,247 @@
+#include "yarn/curve_frames.h"
+
+#include <cmath>
+
+#include "math/bspline.h"
+#include "math/frame.h"
+
+namespace purl {
+namespace {
+
+constexpr int kTransportSteps = 8;  // double-reflection steps per segment at build time
+
+struct SegmentGeometry {
+    Vec3 position, d1, d2;
+    float radius;
+};
+
+SegmentGeometry segment_geometry(const Vec4* cp, float t) {
+    const BSplineWeights b = bspline_basis(t), db = bspline_basis_derivative(t),
+                         ddb = bspline_basis_second_derivative(t);
+    SegmentGeometry g;
+    g.position = g.d1 = g.d2 = Vec3(0.0f);
+    g.radius = 0;
+    for (int i = 0; i < 4; ++i) {
+        const Vec3 p = cp[i].xyz();
+        g.position += p * b.w[i];
+        g.d1 += p * db.w[i];
+        g.d2 += p * ddb.w[i];
+        g.radius += cp[i].w * b.w[i];
+    }
+    return g;
+}
+
+// Unit direction of d, or of the segment's chord when d vanishes (repeated control points).
+Vec3 safe_direction(Vec3 d, const Vec4* cp) {
+    float len = length(d);
+    if (len > 1e-20f) return d / len;
+    d = cp[3].xyz() + cp[2].xyz() - cp[1].xyz() - cp[0].xyz();
+    len = length(d);
+    return len > 1e-20f ? d / len : Vec3(0, 0, 1);
+}
+
+Vec3 start_tangent(const Vec4* cp) { return safe_direction((cp[2].xyz() - cp[0].xyz()) * 0.5f, cp); }
+Vec3 end_tangent(const Vec4* cp) { return safe_direction((cp[3].xyz() - cp[1].xyz()) * 0.5f, cp); }
+
+// The smallest rotation taking unit vector a to unit vector b, applied to v.
+Vec3 rotate_minimal(Vec3 v, Vec3 a, Vec3 b) {
+    const float c = dot(a, b);
+    if (c < -0.9999f) return v - b * dot(v, b);  // half-turn: any axis will do, project instead
+    const Vec3 k = cross(a, b);
+    return v * c + cross(k, v) + k * (dot(k, v) / (1.0f + c));
+}
+
+Vec3 rotate_about(Vec3 v, Vec3 axis, float angle) {
+    const float c = std::cos(angle), s = std::sin(angle);
+    return v * c + cross(axis, v) * s + axis * (dot(axis, v) * (1.0f - c));
+}
+
+// Double reflection (Wang et al. 2008, algorithm 1): carries r from (x0, t0) to (x1, t1).
+Vec3 double_reflection(Vec3 r, Vec3 x0, Vec3 t0, Vec3 x1, Vec3 t1) {
+    const Vec3 v1 = x1 - x0;
+    const float c1 = dot(v1, v1);
+    if (c1 < 1e-30f) return rotate_minimal(r, t0, t1);
+    const Vec3 r_left = r - v1 * (2.0f / c1 * dot(v1, r));
+    const Vec3 t_left = t0 - v1 * (2.0f / c1 * dot(v1, t0));
+    const Vec3 v2 = t1 - t_left;
+    const float c2 = dot(v2, v2);
+    if (c2 < 1e-30f) return r_left;
+    return r_left - v2 * (2.0f / c2 * dot(v2, r_left));
+}
+
+Vec3 orthonormalize(Vec3 n, Vec3 t) {
+    n -= t * dot(n, t);
+    const float len = length(n);
+    if (len > 1e-12f) return n / len;
+    Vec3 s, u;
+    orthonormal_basis(t, s, u);
+    return s;
+}
+
+// Arc length of the segment between t0 and t1 (3-point Gauss-Legendre).
+float segment_length(const Vec4* cp, float t0, float t1) {
+    constexpr float x[3] = {-0.7745966692f, 0.0f, 0.7745966692f};
+    constexpr float w[3] = {5.0f / 9, 8.0f / 9, 5.0f / 9};
+    const float half = 0.5f * (t1 - t0), mid = 0.5f * (t0 + t1);
+    float sum = 0;
+    for (int i = 0; i < 3; ++i) {
+        const BSplineWeights db = bspline_basis_derivative(mid + half * x[i]);
+        Vec3 d(0.0f);
+        for (int k = 0; k < 4; ++k) d += cp[k].xyz() * db.w[k];
+        sum += w[i] * length(d);
+    }
+    return sum * half;
+}
+
+}  // namespace
+
+CurveFrames::CurveFrames(const CurveView& curve) : view_(curve) {
+    const uint32_t segments = curve.segment_count;
+    if (segments == 0 || curve.points == nullptr) {
+        view_.segment_count = 0;
+        return;
+    }
+    // Root normal toward the centroid of the control points: it turns with the yarn.
+    Vec3 centroid(0.0f), lo(1e30f), hi(-1e30f);
+    double radius_sum = 0;
+    for (uint32_t i = 0; i < curve.point_count; ++i) {
+        centroid += curve.points[i].xyz();
+        lo = min(lo, curve.points[i].xyz());
+        hi = max(hi, curve.points[i].xyz());
+        radius_sum += curve.points[i].w;
+    }
+    centroid = centroid / static_cast<float>(curve.point_count);
+    reference_radius_ = static_cast<float>(radius_sum / curve.point_count);
+    const Vec4* first = curve.segment_points(0);
+    const Vec3 root = segment_geometry(first, 0).position, root_tangent = start_tangent(first);
+    Vec3 r = centroid - root;
+    r -= root_tangent * dot(r, root_tangent);
+    // A straight yarn has no shape to follow: fall back to a world-aligned basis.
+    r = length(r) > 1e-3f * max_component(hi - lo) ? normalize(r) : Frame::from_normal(root_tangent).s;
+
+    knots_.resize(segments + 1);
+    float s = 0;
+    Vec3 previous_end_tangent = root_tangent;
+    for (uint32_t k = 0; k < segments; ++k) {
+        const Vec4* cp = curve.segment_points(k);
+        // Separate segments may meet at an angle: turn minimally onto this segment's start.
+        r = orthonormalize(rotate_minimal(r, previous_end_tangent, start_tangent(cp)), start_tangent(cp));
+        knots_[k] = Vec4(r, s);
+        SegmentGeometry a = segment_geometry(cp, 0);
+        Vec3 ta = start_tangent(cp);
+        for (int step = 1; step <= kTransportSteps; ++step) {
+            const float t0 = float(step - 1) / kTransportSteps, t1 = float(step) / kTransportSteps;
+            const SegmentGeometry b = segment_geometry(cp, t1);
+            const Vec3 tb = step == kTransportSteps ? end_tangent(cp) : safe_direction(b.d1, cp);
+            r = double_reflection(r, a.position, ta, b.position, tb);
+            s += segment_length(cp, t0, t1);
+            a = b;
+            ta = tb;
+        }
+        r = orthonormalize(r, ta);
+        previous_end_tangent = ta;
+    }
+    knots_[segments] = Vec4(r, s);
+
+    if (curve.closed && s > 0) {
+        // Spread the loop's holonomy: the end frame must come back onto the root frame.
+        const Vec3 t0 = start_tangent(curve.segment_points(0));
+        const Vec3 r_end = orthonormalize(rotate_minimal(r, previous_end_tangent, t0), t0);
+        const Vec3 r0 = knots_[0].xyz();
+        const float holonomy = std::atan2(dot(cross(r_end, r0), t0), dot(r_end, r0));
+        for (uint32_t k = 1; k <= segments; ++k) {
+            const Vec3 axis = k < segments ? start_tangent(curve.segment_points(k))
+                                           : end_tangent(curve.segment_points(segments - 1));
+            const Vec3 n = rotate_about(knots_[k].xyz(), axis, holonomy * knots_[k].w / s);
+            knots_[k] = Vec4(orthonormalize(n, axis), knots_[k].w);
+        }
+    }
+}
+
+CurvePoint CurveFrames::evaluate_centreline(uint32_t segment, float t) const {
+    const Vec4* cp = view_.segment_points(segment);
+    const SegmentGeometry g = segment_geometry(cp, t);
+    CurvePoint c;
+    c.position = g.position;
+    c.radius = g.radius;
+    c.speed = length(g.d1);
+    c.tangent = safe_direction(g.d1, cp);
+    const float inv_speed = c.speed > 1e-20f ? 1.0f / c.speed : 0.0f;
+    c.curvature = (g.d2 - c.tangent * dot(g.d2, c.tangent)) * (inv_speed * inv_speed);
+    c.arc_length = 0;
+    return c;
+}
+
+CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
+    const Vec4* cp = view_.segment_points(segment);
+    CurvePoint c = evaluate_centreline(segment, t);
+
+    // Carry both boundary normals onto this tangent and turn between them with t.
+    const Vec4 ka = knots_[segment], kb = knots_[segment + 1];
+    const Vec3 na = orthonormalize(rotate_minimal(ka.xyz(), start_tangent(cp), c.tangent), c.tangent);
+    const Vec3 nb = orthonormalize(rotate_minimal(kb.xyz(), end_tangent(cp), c.tangent), c.tangent);
+    const float turn = std::atan2(dot(cross(na, nb), c.tangent), dot(na, nb));
+    const float angle = turn * clamp(t, 0.0f, 1.0f);
+    c.normal = orthonormalize(na * std::cos(angle) + cross(c.tangent, na) * std::sin(angle), c.tangent);
+    c.binormal = cross(c.tangent, c.normal);
+
+    // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.
+    const float v0 = length((cp[2].xyz() - cp[0].xyz()) * 0.5f);
+    const float v1 = length((cp[3].xyz() - cp[1].xyz()) * 0.5f);
+    if (t < 0) {
+        c.arc_length = ka.w + t * v0;
+    } else if (t > 1) {
+        c.arc_length = kb.w + (t - 1) * v1;
+    } else {
+        const float t2 = t * t, t3 = t2 * t;
+        c.arc_length = (2 * t3 - 3 * t2 + 1) * ka.w + (t3 - 2 * t2 + t) * v0 + (-2 * t3 + 3 * t2) * kb.w +
+                       (t3 - t2) * v1;
+    }
+    return c;
+}
+
+bool CurveFrames::advance(uint32_t& segment, float& t, float dt) const {
+    const uint32_t n = view_.segment_count;
+    t += dt;
+    while (t > 1.0f) {
+        if (segment + 1 < n) {
+            ++segment;
+        } else if (view_.closed) {
+            segment = 0;
+        } else {
+            t = std::min(t, 1.5f);
+            return false;
+        }
+        t -= 1.0f;
+    }
+    while (t < 0.0f) {
+        if (segment > 0) {
+            --segment;
+        } else if (view_.closed) {
+            segment = n - 1;
+        } else {
+            t = std::max(t, -0.5f);
+            return false;
+        }
+        t += 1.0f;
+    }
+    return true;
+}
+
+float CurveFrames::azimuth(const CurvePoint& c, Vec3 x) {
+    const Vec3 d = x - c.position;
+    const float a = std::atan2(dot(d, c.binormal), dot(d, c.normal));
+    return a < 0 ? a + 2 * kPi : a;
+}
+
+std::vector<CurveFrames> build_curve_frames(const Vec4* points, const uint32_t* offsets,
+                                            const uint8_t* closed, size_t curve_count) {
+    std::vector<CurveFrames> frames;
+    frames.reserve(curve_count);
+    for (size_t c = 0; c < curve_count; ++c)
+        frames.emplace_back(CurveView::chain(points + offsets[c], offsets[c + 1] - offsets[c],
+                                             closed != nullptr && closed[c] != 0));
+    return frames;
+}
+
+}  // namespace purl

@@ -1,0 +1,93 @@
+// Rotation-minimizing frames along one yarn centre-line (a uniform cubic B-spline with a
+// radius per control point), by the double-reflection method of Wang, Juettler, Zheng and
+// Liu 2008. Frames are computed once, stored at segment boundaries (a normal and the arc
+// length from the root: 4 floats per segment) and interpolated at query time, so the
+// azimuthal phase u_yarn and the length v_yarn of a hit follow the yarn when it moves or bends.
+//
+// Closed loops stay continuous across the seam: the frame's holonomy (the twist a
+// rotation-minimizing frame accumulates around a loop) is spread evenly along the loop.
+// The root normal comes from the curve's own shape (toward its centroid), so rotating or
+// moving a yarn rotates or moves its frames with it; a straight yarn falls back to a world basis.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "math/vec.h"
+
+namespace purl {
+
+// Non-owning view of one curve's control points, (x, y, z, radius) in metres. Either a chain
+// (segment i uses points i .. i+3; a closed loop of n points is stored as n + 3 points with
+// its first three repeated) or separate segments (segment i uses points first[i] .. first[i]+3).
+struct CurveView {
+    const Vec4* points = nullptr;
+    uint32_t point_count = 0;
+    const uint32_t* segment_first = nullptr;  // null for a chain
+    uint32_t segment_count = 0;
+    bool closed = false;
+
+    static CurveView chain(const Vec4* points, uint32_t count, bool closed) {
+        return {points, count, nullptr, count >= 4 ? count - 3 : 0, closed};
+    }
+    static CurveView separate_segments(const Vec4* points, uint32_t count, const uint32_t* first,
+                                       uint32_t segments, bool closed) {
+        return {points, count, first, segments, closed};
+    }
+    const Vec4* segment_points(uint32_t segment) const {
+        return points + (segment_first ? segment_first[segment] : segment);
+    }
+};
+
+// The centre-line and its frame at one curve parameter.
+struct CurvePoint {
+    Vec3 position;   // m
+    Vec3 tangent;    // unit, along increasing t
+    Vec3 normal;     // unit reference normal (rotation-minimizing)
+    Vec3 binormal;   // tangent x normal
+    Vec3 curvature;  // dT/ds, 1/m (perpendicular to the tangent)
+    float speed;     // |dC/dt|, m per unit t
+    float radius;    // yarn radius R, m
+    float arc_length;  // v_yarn: m from the root along the centre-line
+};
+
+class CurveFrames {
+public:
+    CurveFrames() = default;
+    // Precomputes the frames; the view's arrays must outlive this object. A curve without
+    // segments gives an empty object (segment_count() == 0) that must not be queried.
+    explicit CurveFrames(const CurveView& curve);
+
+    CurvePoint evaluate(uint32_t segment, float t) const;
+    // Position, tangent, curvature, speed and radius only (normal, binormal and arc length
+    // are left zero): enough to project points onto the centre-line, at a third of the cost.
+    CurvePoint evaluate_centreline(uint32_t segment, float t) const;
+    // Moves (segment, t) by dt across segment boundaries (wrapping on closed loops).
+    // Open curves stop at their ends (t may extrapolate at most half a segment past them);
+    // returns false when it had to stop.
+    bool advance(uint32_t& segment, float& t, float dt) const;
+
+    // Azimuthal phase u_yarn in [0, 2 pi) of point x around the centre-line point c.
+    static float azimuth(const CurvePoint& c, Vec3 x);
+
+    uint32_t segment_count() const { return view_.segment_count; }
+    bool closed() const { return view_.closed; }
+    float total_length() const { return knots_.empty() ? 0.0f : knots_.back().w; }  // m
+    // Mean radius of the control points: the length unit of twist rates on this curve, m.
+    float reference_radius() const { return reference_radius_; }
+    const CurveView& view() const { return view_; }
+    size_t memory_bytes() const { return sizeof(*this) + knots_.capacity() * sizeof(Vec4); }
+
+private:
+    CurveView view_;
+    // Per segment boundary k (segment_count + 1 of them): reference normal xyz and arc length.
+    std::vector<Vec4> knots_;
+    float reference_radius_ = 0;
+};
+
+// Frames for a set of chain curves laid out as YarnCurves stores them (offsets[c] ..
+// offsets[c+1] are curve c's points; closed loops already wrapped), without linking purl_scene.
+std::vector<CurveFrames> build_curve_frames(const Vec4* points, const uint32_t* offsets,
+                                            const uint8_t* closed, size_t curve_count);
+
+}  // namespace purl

@@ -1,0 +1,412 @@
+#include "yarn/implicit_plies.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "yarn/yarn_tube.h"
+
+namespace purl {
+namespace {
+
+float wrap_angle(float a) {
+    a = std::fmod(a, 2 * kPi);
+    if (a < 0) a += 2 * kPi;
+    return a >= 2 * kPi ? 0.0f : a;
+}
+
+// Ray (from the tube entry) against an infinite cylinder; false when it misses.
+bool intersect_cylinder(Vec3 origin, Vec3 direction, Vec3 axis_point, Vec3 axis, float radius, float& enter,
+                        float& leave) {
+    const Vec3 w = origin - axis_point;
+    const Vec3 w_perp = w - axis * dot(w, axis);
+    const Vec3 d_perp = direction - axis * dot(direction, axis);
+    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp), c = dot(w_perp, w_perp) - radius * radius;
+    if (a < 1e-12f) {  // running along the ply: inside or not at all
+        if (c > 0) return false;
+        enter = 0;
+        leave = 1e30f;
+        return true;
+    }
+    const float disc = b * b - a * c;
+    if (disc < 0) return false;
+    const float root = std::sqrt(disc);
+    enter = (-b - root) / a;
+    leave = (-b + root) / a;
+    return leave > 0;
+}
+
+// One ply's centre-line at one cross-section of the yarn. The position along the curve is
+// an unwrapped parameter g = segment + t: loops may run past their seam, open curves stop at
+// their ends.
+struct PlyCut {
+    double g = 0;
+    uint32_t segment = 0;
+    float t = 0;
+    CurvePoint yarn;
+    PlyCentre centre;
+};
+
+void locate(const CurveFrames& frames, double g, uint32_t& segment, float& t) {
+    const double n = frames.segment_count();
+    if (frames.closed()) {
+        g = std::fmod(g, n);
+        if (g < 0) g += n;
+    } else {
+        g = std::min(std::max(g, 0.0), n);
+    }
+    segment = std::min(static_cast<uint32_t>(g), frames.segment_count() - 1);
+    t = static_cast<float>(g - segment);
+}
+
+PlyCut cut_at(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply, double g) {
+    PlyCut cut;
+    cut.g = g;
+    locate(frames, g, cut.segment, cut.t);
+    cut.yarn = frames.evaluate(cut.segment, cut.t);
+    cut.centre = ply_centre(cut.yarn, d, tw, ply);
+    return cut;
+}
+
+struct Candidate {
+    int ply = 0;
+    PlyCut cut;
+    float enter = 0, leave = 0;
+};
+
+// The ply surface point, frame and coordinates for a hit at `point`.
+PlyHit finish_hit(const Candidate& c, Vec3 point, const YarnTwist& tw, const YarnTubeHit& hit) {
+    PlyHit h;
+    h.hit = true;
+    h.ply = c.ply;
+    h.point = point;
+    h.distance = std::max(c.enter, 0.0f);
+    h.tangent = normalize(c.cut.centre.derivative);
+    Vec3 radial = point - c.cut.centre.position;
+    radial -= h.tangent * dot(radial, h.tangent);
+    h.outward = c.cut.centre.outward - h.tangent * dot(c.cut.centre.outward, h.tangent);
+    h.outward = normalize(h.outward);
+    const float len = length(radial);
+    // A hit on the ply's axis (only with a degenerate ray) faces the viewer.
+    h.normal = len > 1e-12f ? radial / len : normalize(-hit.direction - h.tangent * dot(-hit.direction, h.tangent));
+    if (!is_finite(h.normal)) h.normal = h.outward;
+    const Vec3 side = cross(h.tangent, h.outward);
+    h.u_ply = wrap_angle(std::atan2(dot(h.normal, side), dot(h.normal, h.outward)));
+    h.v_ply = c.cut.yarn.arc_length * tw.ply_stretch;
+    h.u_yarn = CurveFrames::azimuth(c.cut.yarn, point);
+    h.v_yarn = c.cut.yarn.arc_length;
+    h.arrangement_azimuth = wrap_angle(h.u_yarn - ply_phase(tw, c.cut.yarn.arc_length));
+    h.segment = c.cut.segment;
+    h.t = c.cut.t;
+    return h;
+}
+
+PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t segment, float t) {
+    PlyHit h;
+    h.exit_distance = tube_chord_length(frames, segment, t, hit.point, hit.direction);
+    h.point = hit.point + hit.direction * h.exit_distance;
+    return h;
+}
+
+// The plane through the ray in which a ply is cut, and the stretch of curve (in g) to search.
+//  ply plane (default): holds the ray and the direction perpendicular to both the ray and the
+//    ply's own tangent, so the ply's cut is an ellipse centred where its centre-line pierces
+//    the plane: f(g) = (P - x0)_perp . P'_perp (perp: across the ray); rising roots are the
+//    centre-line's closest approaches to the ray.
+//  yarn plane (the paper's literal choice): holds the ray and the direction across the yarn at
+//    the hit, one plane for all plies: f(g) = (P - x0) . n.
+struct CuttingPlane {
+    bool ply_plane = true;
+    Vec3 x0, ray, normal;
+    double g_lo = 0, g_hi = 0;
+    int samples = 1;  // sub-intervals of [g_lo, g_hi] scanned for crossings
+};
+
+struct PlaneOffset {
+    float f, slope;  // f and df/dg
+};
+PlaneOffset plane_offset(const PlyCut& cut, const CuttingPlane& plane) {
+    const PlyCentre& p = cut.centre;
+    if (!plane.ply_plane)
+        return {dot(p.position - plane.x0, plane.normal), dot(p.derivative, plane.normal) * cut.yarn.speed};
+    auto across = [&](Vec3 v) { return v - plane.ray * dot(v, plane.ray); };
+    const Vec3 w = across(p.position - plane.x0), d1 = across(p.derivative), d2 = across(p.second_derivative);
+    return {dot(w, d1), (dot(d1, d1) + dot(w, d2)) * cut.yarn.speed};
+}
+
+// The crossings of one ply's centre-line through its plane, each by Newton steps kept
+// inside its bracket (bisection when a step leaves it).
+struct Pierces {
+    PlyCut cuts[8];
+    int count = 0;
+    int evaluations = 0;
+    bool converged = true;
+};
+
+bool bracketed_root(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
+                    const CuttingPlane& plane, double lo, double hi, float f_lo, PlyCut cut, float tolerance,
+                    int max_steps, Pierces& out) {
+    const float rising = f_lo <= 0 ? 1.0f : -1.0f;  // f_lo's sign tells which side `lo` is on
+    for (int step = 0; step <= max_steps; ++step) {
+        const PlaneOffset o = plane_offset(cut, plane);
+        double next = cut.g - o.f / o.slope;
+        const bool newton = o.slope * rising > 0;
+        if (newton && std::fabs(next - cut.g) * cut.yarn.speed < tolerance) {
+            if (out.count < 8) out.cuts[out.count++] = cut;  // within tolerance of the root
+            return true;
+        }
+        if (step == max_steps) break;
+        if (o.f * rising < 0) lo = cut.g;
+        else hi = cut.g;
+        if (std::fabs(hi - lo) * cut.yarn.speed < tolerance) {
+            if (out.count < 8) out.cuts[out.count++] = cut;
+            return true;
+        }
+        if (!newton || !(next >= std::min(lo, hi) && next <= std::max(lo, hi))) next = 0.5 * (lo + hi);
+        cut = cut_at(frames, d, tw, ply, next);
+        ++out.evaluations;
+    }
+    return false;
+}
+
+struct Sample {
+    PlyCut cut;
+    PlaneOffset offset;
+};
+
+Sample sample_at(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
+                 const CuttingPlane& plane, double g, Pierces& out) {
+    Sample s{cut_at(frames, d, tw, ply, g), {}};
+    s.offset = plane_offset(s.cut, plane);
+    ++out.evaluations;
+    return s;
+}
+
+// Looks for crossings between two samples. Equal signs at both ends can still hide two
+// crossings (the ray grazes a ply between two close approaches): when both end slopes head
+// toward zero, the interval is split where the cubic through the ends turns.
+void scan_interval(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
+                   const CuttingPlane& plane, const Sample& a, const Sample& b, int depth,
+                   const PlyTraceOptions& options, float tolerance, Pierces& out) {
+    const float fa = a.offset.f, fb = b.offset.f;
+    const bool crossing = plane.ply_plane ? (fa < 0 && fb >= 0) : ((fa <= 0) != (fb <= 0));
+    if (crossing) {
+        // First step from the secant point between the bracket's ends.
+        double g = (a.cut.g * fb - b.cut.g * fa) / (fb - fa);
+        if (!std::isfinite(g)) g = 0.5 * (a.cut.g + b.cut.g);
+        const PlyCut start = cut_at(frames, d, tw, ply, g);
+        ++out.evaluations;
+        if (!bracketed_root(frames, d, tw, ply, plane, a.cut.g, b.cut.g, fa, start, tolerance, options.max_iterations,
+                            out))
+            out.converged = false;
+        return;
+    }
+    const bool same_sign = (fa < 0) == (fb < 0);
+    const bool toward_zero = fa < 0 ? (a.offset.slope > 0 && b.offset.slope < 0) : (a.offset.slope < 0 && b.offset.slope > 0);
+    if (!same_sign || !toward_zero || depth >= 3 || out.count >= 8) return;
+    // The cubic Hermite's turning point, from its derivative's roots (fallback: the middle).
+    const double h = b.cut.g - a.cut.g;
+    const double p = a.offset.slope * h, q = b.offset.slope * h;  // end slopes per unit of the interval
+    const double c2 = 3 * (2 * (fa - fb) + p + q), c1 = 2 * (3 * (fb - fa) - 2 * p - q), c0 = p;
+    double u = 0.5;
+    const double disc = c1 * c1 - 4 * c2 * c0;
+    if (std::fabs(c2) > 1e-12 && disc >= 0) {
+        const double r1 = (-c1 - std::sqrt(disc)) / (2 * c2), r2 = (-c1 + std::sqrt(disc)) / (2 * c2);
+        u = r1 > 0 && r1 < 1 ? r1 : (r2 > 0 && r2 < 1 ? r2 : 0.5);
+    } else if (std::fabs(c1) > 1e-12 && -c0 / c1 > 0 && -c0 / c1 < 1) {
+        u = -c0 / c1;
+    }
+    u = clamp(static_cast<float>(u), 0.1f, 0.9f);
+    const Sample m = sample_at(frames, d, tw, ply, plane, a.cut.g + h * u, out);
+    scan_interval(frames, d, tw, ply, plane, a, m, depth + 1, options, tolerance, out);
+    scan_interval(frames, d, tw, ply, plane, m, b, depth + 1, options, tolerance, out);
+}
+
+Pierces pierce(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
+               const CuttingPlane& plane, const PlyTraceOptions& options, float radius) {
+    Pierces out;
+    const float tolerance = options.tolerance * radius;
+    Sample previous = sample_at(frames, d, tw, ply, plane, plane.g_lo, out);
+    for (int i = 1; i <= plane.samples && out.count < 8; ++i) {
+        const Sample next =
+            sample_at(frames, d, tw, ply, plane, plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples, out);
+        scan_interval(frames, d, tw, ply, plane, previous, next, 0, options, tolerance, out);
+        previous = next;
+    }
+    return out;
+}
+
+PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
+                      const YarnTubeHit& hit, const CentrelineProjection& at) {
+    const Vec3 tangent = at.point.tangent;
+    Vec3 flat = hit.direction - tangent * dot(hit.direction, tangent);
+    const float flat_length = length(flat);
+    if (flat_length < 1e-4f) return pass_through(frames, hit, at.segment, at.t);
+    flat = flat / flat_length;
+    Vec3 x0 = hit.point - tangent * dot(hit.point - at.point.position, tangent);
+
+    Candidate best;
+    bool found = false;
+    int crossed = 0;
+    Vec3 best_point, best_normal;
+    for (int ply = 0; ply < d.plies(); ++ply) {
+        PlyCut cut;
+        cut.g = at.segment + double(at.t);
+        cut.segment = at.segment;
+        cut.t = at.t;
+        cut.yarn = at.point;
+        cut.centre = ply_centre(at.point, d, tw, ply);
+        // 2D ray against the ply's circle in the perpendicular cross-section.
+        const Vec3 w = x0 - cut.centre.position;
+        const float b = dot(w, flat), c = dot(w, w) - sqr(cut.centre.radius);
+        const float disc = b * b - c;
+        if (disc < 0) continue;
+        const float root = std::sqrt(disc);
+        const float enter = -b - root, leave = -b + root;
+        if (leave <= 0) continue;
+        ++crossed;
+        const float along = std::max(enter, 0.0f);
+        if (found && along / flat_length >= best.enter) continue;
+        found = true;
+        best.ply = ply;
+        best.cut = cut;
+        best.enter = along / flat_length;  // the same progress on the 3D ray
+        best_normal = normalize(w + flat * along);
+    }
+    if (!found) return pass_through(frames, hit, at.segment, at.t);
+    const Vec3 point = hit.point + hit.direction * best.enter;
+    PlyHit h = finish_hit(best, point, tw, hit);
+    // The circular method's normal is the 2D one, in the frozen cross-section.
+    h.normal = best_normal;
+    const Vec3 side = cross(h.tangent, h.outward);
+    h.u_ply = wrap_angle(std::atan2(dot(h.normal, side), dot(h.normal, h.outward)));
+    h.plies_crossed = crossed;
+    return h;
+}
+
+PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
+                        const YarnTubeHit& hit, const CentrelineProjection& at, const PlyTraceOptions& options) {
+    const CurvePoint& c = at.point;
+    const Vec3 across = cross(c.tangent, hit.direction);
+    const float across_length = length(across);
+    if (across_length < 1e-4f) return pass_through(frames, hit, at.segment, at.t);
+    const float radius = c.radius;
+
+    CuttingPlane plane;
+    plane.ply_plane = options.cross_section == PlyCrossSection::elliptical;
+    plane.x0 = hit.point;
+    plane.ray = hit.direction;
+    plane.normal = normalize(cross(hit.direction, across / across_length));
+
+    // The stretch of yarn the ray crosses: entry to exit of the straight tube at the hit,
+    // widened by how far along the yarn a ply's cut can reach.
+    const Vec3 w = hit.point - c.position;
+    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
+    const Vec3 d_perp = hit.direction - c.tangent * dot(hit.direction, c.tangent);
+    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
+    const float chord = (-b + std::sqrt(std::max(b * b - a * std::min(dot(w_perp, w_perp) - radius * radius, 0.0f), 0.0f))) / a;
+    const float along = dot(hit.direction, c.tangent);
+    const float tan_psi = std::fabs(along) / across_length;
+    const float ply_radius = d.ply_radius * radius;
+    // On a bend the straight tube's chord is only a guess: widen with the curvature.
+    const float bend = std::min(1.0f, 2 * length(c.curvature) * radius);
+    const float margin = ply_radius * (1 + tan_psi) + 0.05f * radius + (0.1f + bend) * chord * std::fabs(along);
+    const float s_lo = std::min(0.0f, chord * along) - margin, s_hi = std::max(0.0f, chord * along) + margin;
+    const double g0 = at.segment + double(at.t), inv_speed = 1.0 / std::max(c.speed, 1e-30f);
+    plane.g_lo = g0 + s_lo * inv_speed;
+    plane.g_hi = g0 + s_hi * inv_speed;
+    // A ply's closest approaches to the ray are about a turn apart: sub-intervals of at most
+    // scan_turn radians of ply turn hold at most one each.
+    plane.samples = std::min(32, 1 + static_cast<int>((s_hi - s_lo) * std::fabs(tw.ply_rate) / options.scan_turn));
+    const float half = s_hi - s_lo;  // bound on refinement steps, m
+    int evaluations = 0;
+
+    Candidate candidates[kMaxPlies * 8];
+    int count = 0, worst = 0;
+    bool converged = true;
+    uint32_t crossed_mask = 0;
+    for (int ply = 0; ply < d.plies(); ++ply) {
+        Pierces p = pierce(frames, d, tw, ply, plane, options, radius);
+        evaluations += p.evaluations;
+        worst = std::max(worst, p.evaluations);
+        if (!p.converged) {
+            // Fallback: this ply as the circular method sees it, at the tube hit's cross-section.
+            converged = false;
+            if (p.count == 0) p.cuts[p.count++] = cut_at(frames, d, tw, ply, g0);
+        }
+        // Near misses stay candidates too: the refinement below decides on the curved ply.
+        for (int k = 0; k < p.count; ++k) {
+            Candidate cand{ply, p.cuts[k]};
+            if (intersect_cylinder(hit.point, hit.direction, cand.cut.centre.position,
+                                   normalize(cand.cut.centre.derivative), 1.25f * cand.cut.centre.radius, cand.enter,
+                                   cand.leave))
+                candidates[count++] = cand;
+        }
+    }
+    // Correct each candidate against the helix point closest to its hit (or, while the ray
+    // misses the local cylinder, to the ray's closest approach), a few times: the cut's
+    // cylinder is only tangent to the helix at the piercing. Then the nearest one wins.
+    const float tolerance = options.tolerance * radius;
+    int best = -1;
+    for (int i = 0; i < count; ++i) {
+        Candidate& cand = candidates[i];
+        bool hits = intersect_cylinder(hit.point, hit.direction, cand.cut.centre.position,
+                                       normalize(cand.cut.centre.derivative), cand.cut.centre.radius, cand.enter,
+                                       cand.leave);
+        for (int r = 0; r < options.refinements; ++r) {
+            const Vec3 axis = normalize(cand.cut.centre.derivative);
+            Vec3 x;
+            if (hits) {
+                x = hit.point + hit.direction * std::max(cand.enter, 0.0f);
+            } else {
+                const Vec3 w = hit.point - cand.cut.centre.position;
+                const float b = dot(hit.direction, axis);
+                const float lambda = (b * dot(axis, w) - dot(hit.direction, w)) / std::max(1 - b * b, 1e-6f);
+                x = hit.point + hit.direction * std::max(lambda, 0.0f);
+            }
+            const Vec3 dp = cand.cut.centre.derivative;
+            const float ds = clamp(dot(x - cand.cut.centre.position, dp) / dot(dp, dp), -half - radius, half + radius);
+            cand.cut = cut_at(frames, d, tw, cand.ply, cand.cut.g + ds / std::max(cand.cut.yarn.speed, 1e-30f));
+            ++evaluations;
+            hits = intersect_cylinder(hit.point, hit.direction, cand.cut.centre.position,
+                                      normalize(cand.cut.centre.derivative), cand.cut.centre.radius, cand.enter,
+                                      cand.leave);
+            if (std::fabs(ds) < tolerance) break;
+        }
+        if (!hits) {
+            cand.enter = 1e30f;
+            continue;
+        }
+        if (best < 0 || cand.enter < candidates[best].enter) best = i;
+    }
+    // N_i: plies with at least one confirmed crossing.
+    crossed_mask = 0;
+    for (int i = 0; i < count; ++i)
+        if (candidates[i].enter < 1e29f) crossed_mask |= 1u << candidates[i].ply;
+    if (best >= 0) {
+        const Candidate& cand = candidates[best];
+        const Vec3 point = hit.point + hit.direction * std::max(cand.enter, 0.0f);
+        PlyHit h = finish_hit(cand, point, tw, hit);
+        h.plies_crossed = __builtin_popcount(crossed_mask);
+        h.iterations = evaluations;
+        h.max_ply_iterations = worst;
+        h.converged = converged;
+        return h;
+    }
+    PlyHit h = pass_through(frames, hit, at.segment, at.t);
+    h.iterations = evaluations;
+    h.max_ply_iterations = worst;
+    h.converged = converged;
+    return h;
+}
+
+}  // namespace
+
+PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
+                   const PlyTraceOptions& options) {
+    const CentrelineProjection at = project_to_centreline(frames, hit.point, hit.segment, hit.t);
+    const YarnTwist tw = yarn_twist(frames, d);
+    return options.cross_section == PlyCrossSection::circular ? trace_circular(frames, d, tw, hit, at)
+                                                              : trace_elliptical(frames, d, tw, hit, at, options);
+}
+
+}  // namespace purl

@@ -1,0 +1,127 @@
+#include "yarn/yarn_tube.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace purl {
+namespace {
+
+// Newton on f(s) = (C(s) - x).T(s), f'(s) = 1 + (C - x).dT/ds, in arc length; returns the
+// centre-line point without its frame.
+struct Projected {
+    uint32_t segment;
+    float t;
+    CurvePoint c;
+    bool converged;
+};
+
+Projected project(const CurveFrames& frames, Vec3 x, uint32_t segment, float t, int max_steps) {
+    CurvePoint c = frames.evaluate_centreline(segment, t);
+    const float tolerance = 1e-5f * std::max(c.radius, 1e-30f);
+    bool converged = false;
+    for (int step = 0; step < max_steps; ++step) {
+        const Vec3 w = c.position - x;
+        const float f = dot(w, c.tangent);
+        // Beyond the centre of curvature the distance has no minimum here: take a plain step.
+        const float fp = std::max(1.0f + dot(w, c.curvature), 0.2f);
+        const float ds = clamp(-f / fp, -4 * c.radius, 4 * c.radius);
+        if (!frames.advance(segment, t, ds / std::max(c.speed, 1e-30f))) {
+            c = frames.evaluate_centreline(segment, t);
+            break;  // the closest point is past an open end
+        }
+        c = frames.evaluate_centreline(segment, t);
+        if (std::fabs(ds) < tolerance) {
+            converged = true;
+            break;
+        }
+    }
+    return {segment, t, c, converged};
+}
+
+// Signed distance of x outside the tube (negative inside), and the projection it used.
+float outside_distance(const CurveFrames& frames, Vec3 x, uint32_t& segment, float& t) {
+    const Projected p = project(frames, x, segment, t, 6);
+    segment = p.segment;
+    t = p.t;
+    return length(x - p.c.position) - p.c.radius;
+}
+
+}  // namespace
+
+CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, uint32_t segment, float t,
+                                           int max_steps) {
+    const Projected p = project(frames, x, segment, t, max_steps);
+    CentrelineProjection r;
+    r.segment = p.segment;
+    r.t = p.t;
+    r.point = frames.evaluate(p.segment, p.t);
+    r.distance = length(x - r.point.position);
+    r.converged = p.converged;
+    return r;
+}
+
+float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
+    const Projected start = project(frames, point, segment, t, 6);
+    const CurvePoint& c = start.c;
+    const float radius = std::max(c.radius, 1e-30f);
+
+    // Exit from the straight cylinder at the start point: the first guess.
+    const Vec3 w = point - c.position;
+    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
+    const Vec3 d_perp = direction - c.tangent * dot(direction, c.tangent);
+    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
+    const float cc = std::min(dot(w_perp, w_perp) - radius * radius, 0.0f);
+    const float max_chord = 200 * radius;
+    float guess = a > 1e-12f ? (-b + std::sqrt(b * b - a * cc)) / a : max_chord;
+    guess = clamp(guess, 0.0f, max_chord);
+
+    // Bracket the first exit: h(lo) <= 0 < h(hi). Inside, R - distance bounds the step.
+    uint32_t seg = start.segment;
+    float tt = start.t;
+    float lo = 0, hi = -1, h_lo = -radius, h_hi = 0;
+    float h = outside_distance(frames, point + direction * guess, seg, tt);
+    if (std::fabs(h) < 1e-5f * radius) return guess;
+    if (h > 0) {
+        hi = guess;
+        h_hi = h;
+    } else {
+        lo = guess;
+        h_lo = h;
+        float x = guess;
+        for (int step = 0; step < 400 && x < max_chord; ++step) {
+            x += std::max(-h, 0.02f * radius);
+            h = outside_distance(frames, point + direction * x, seg, tt);
+            if (h > 0) {
+                hi = x;
+                h_hi = h;
+                break;
+            }
+            lo = x;
+            h_lo = h;
+        }
+        if (hi < 0) return std::min(x, max_chord);  // never left: runs along the yarn
+    }
+    // Regula falsi (Illinois) inside the bracket.
+    int side = 0;
+    float x = hi;
+    for (int step = 0; step < 40; ++step) {
+        x = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
+        if (!(x > lo && x < hi)) x = 0.5f * (lo + hi);
+        h = outside_distance(frames, point + direction * x, seg, tt);
+        if (std::fabs(h) < 1e-5f * radius || hi - lo < 1e-6f * radius) break;
+        if (h > 0) {
+            hi = x;
+            h_hi = h;
+            if (side == 1) h_lo *= 0.5f;
+            side = 1;
+        } else {
+            lo = x;
+            h_lo = h;
+            if (side == -1) h_hi *= 0.5f;
+            side = -1;
+        }
+    }
+    return std::isfinite(x) ? std::max(x, 0.0f) : 0.0f;
+}
+
+}  // namespace purl

@@ -1,0 +1,29 @@
+// The yarn tube around a centre-line: closest centre-line point of a point, and the chord a
+// ray travels inside the tube (the BYSDF's |x - y| and the pass-through distance).
+#pragma once
+#include <cstdint>
+
+#include "yarn/curve_frames.h"
+
+namespace purl {
+
+struct CentrelineProjection {
+    uint32_t segment = 0;
+    float t = 0;
+    CurvePoint point;    // centre-line point with its frame (from CurveFrames::evaluate)
+    float distance = 0;  // from the centre-line, m
+    bool converged = false;
+};
+
+// Closest centre-line point to x by Newton steps from (segment, t); `t` may come from
+// Embree's curve parameter. Stops after max_steps.
+CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, uint32_t segment, float t,
+                                           int max_steps = 8);
+
+// Distance (m) from `point`, inside or on the tube, along unit `direction` to where the ray
+// leaves the tube. (segment, t) is a centre-line parameter near `point`. Exact for a straight
+// tube; on bends a safeguarded root search finds the first exit. Never NaN; 0 when the ray
+// leaves at once.
+float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction);
+
+}  // namespace purl

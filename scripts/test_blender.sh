@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Runs the Blender test suite (tests/blender) headless on both supported Blenders:
+#   3.4  Debian's Blender 3.4.1, the legacy zip (purlcore bundled) as a legacy add-on
+#   bpy  the bpy module from PyPI (4.5 LTS by default) in a venv, the extension zip (purlcore
+#        wheel inside) installed as an extension
+# Both zips come from scripts/build_addon.sh, run first (its CMake build folder is kept, so a
+# second run only repacks).
+# Installs what is missing (apt: blender, python3-pytest, python3-numpy, python3-venv; pip: bpy).
+#
+#   scripts/test_blender.sh [3.4|bpy|all] [-- pytest args]
+# Environment:
+#   PURL_BPY_VENV      venv for the bpy module          (default /opt/purl-bpy)
+#   PURL_BPY_VERSION   bpy version spec                 (default 4.5.*; 5.0.* also works)
+#   PURL_SKIP_NATIVE=1 build nothing and load addon/ from the tree: tests that need purlcore
+#                      skip (unless PURL_BUILD_DIR names a build folder holding it)
+set -euo pipefail
+
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+SUITE=all
+case "${1:-}" in 3.4|bpy|all) SUITE="$1"; shift ;; esac
+if [ "${1:-}" = "--" ]; then shift; fi
+VENV="${PURL_BPY_VENV:-/opt/purl-bpy}"
+BPY_VERSION="${PURL_BPY_VERSION:-4.5.*}"
+
+log() { echo "== test_blender.sh: $*"; }
+apt_install() {
+    log "apt-get install $*"
+    if [ -z "${PURL_APT_UPDATED:-}" ]; then apt-get update -qq; PURL_APT_UPDATED=1; fi
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+}
+
+ensure_blender() {
+    local missing=()
+    command -v blender >/dev/null || missing+=(blender)
+    dpkg -s python3-pytest >/dev/null 2>&1 || missing+=(python3-pytest)
+    dpkg -s python3-numpy >/dev/null 2>&1 || missing+=(python3-numpy)
+    [ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
+}
+
+ensure_bpy() {
+    if "$VENV/bin/python" -c 'import bpy, pytest, numpy' >/dev/null 2>&1; then return; fi
+    /usr/bin/python3 -m venv "$VENV" 2>/dev/null || { apt_install python3-venv; /usr/bin/python3 -m venv "$VENV"; }
+    log "pip install bpy==$BPY_VERSION into $VENV (about 400 MB)"
+    "$VENV/bin/pip" install -q "bpy==$BPY_VERSION" pytest numpy
+}
+
+ensure_native() {
+    [ -z "${PURL_SKIP_NATIVE:-}" ] || return 0
+    export PURL_REQUIRE_NATIVE=1  # tests that need purlcore fail instead of skipping
+    log "building purlcore and the add-on zips (scripts/build_addon.sh)"
+    local start=$SECONDS
+    "$REPO/scripts/build_addon.sh" >/dev/null
+    log "build took $((SECONDS - start)) s"
+}
+
+package_zip() {  # package_zip legacy|extension: the zip to test, empty when skipping native
+    [ -z "${PURL_SKIP_NATIVE:-}" ] || return 0
+    ls "$REPO"/dist/purl-*-"$1".zip | head -1
+}
+
+run_34() {
+    ensure_blender
+    local zip; zip="$(package_zip legacy)"
+    log "Blender $(blender -v 2>/dev/null | head -1 | cut -d' ' -f2), ${zip:-addon/ from the tree}"
+    local start=$SECONDS
+    PURL_LEGACY_ZIP="$zip" blender -b --factory-startup --python-exit-code 1 \
+        --python "$REPO/tests/blender/run_tests.py" -- "$@"
+    log "Blender 3.4 suite took $((SECONDS - start)) s"
+}
+
+run_bpy() {
+    ensure_bpy
+    local zip; zip="$(package_zip extension)"
+    log "bpy $("$VENV/bin/python" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null), ${zip:-addon/ from the tree}"
+    local start=$SECONDS
+    PURL_EXTENSION_ZIP="$zip" "$VENV/bin/python" "$REPO/tests/blender/run_tests.py" "$@"
+    log "bpy suite took $((SECONDS - start)) s"
+}
+
+ensure_native
+case "$SUITE" in
+    3.4) run_34 "$@" ;;
+    bpy) run_bpy "$@" ;;
+    all) run_34 "$@"; run_bpy "$@" ;;
+    *) echo "usage: $0 [3.4|bpy|all] [-- pytest args]" >&2; exit 2 ;;
+esac

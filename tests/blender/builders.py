@@ -1,0 +1,74 @@
+"""Small builders for test scenes: cameras, lights, curves, planes."""
+import os
+from importlib import import_module
+
+import bpy
+
+# The add-on's Blender-version helpers (multilayer EXR settings, node trees on 5.0).
+compat = import_module(os.environ["PURL_ADDON_PACKAGE"] + ".compat")
+
+
+def link(scene, ob):
+    scene.collection.objects.link(ob)
+    return ob
+
+
+def add_camera(scene, location, rotation, **settings):
+    data = bpy.data.cameras.new("Camera")
+    for key, value in settings.items():
+        setattr(data, key, value)
+    ob = link(scene, bpy.data.objects.new("Camera", data))
+    ob.location, ob.rotation_euler = location, rotation
+    scene.camera = ob
+    return ob
+
+
+def add_light(scene, kind, name=None, **settings):
+    data = bpy.data.lights.new(name or kind.title(), kind)
+    for key, value in settings.items():
+        setattr(data, key, value)
+    return link(scene, bpy.data.objects.new(name or kind.title(), data))
+
+
+def add_curve(scene, name, splines, bevel_depth=0.05):
+    """A curve object from [(type, points, options)]: points are (x, y, z) knots (Bezier gets
+    automatic handles), options may set radius (list), cyclic, order, endpoint, weights."""
+    data = bpy.data.curves.new(name, "CURVE")
+    data.dimensions = "3D"
+    data.bevel_depth = bevel_depth
+    for kind, points, options in splines:
+        spline = data.splines.new(kind)
+        radii = options.get("radius", [1.0] * len(points))
+        if kind == "BEZIER":
+            spline.bezier_points.add(len(points) - 1)
+            for point, co, radius in zip(spline.bezier_points, points, radii):
+                point.co = co
+                point.handle_left_type = point.handle_right_type = "AUTO"
+                point.radius = radius
+        else:
+            spline.points.add(len(points) - 1)
+            weights = options.get("weights", [1.0] * len(points))
+            for point, co, radius, weight in zip(spline.points, points, radii, weights):
+                point.co = (*co, weight)
+                point.radius = radius
+            if kind == "NURBS":
+                spline.order_u = options.get("order", 4)
+                spline.use_endpoint_u = options.get("endpoint", False)
+        spline.use_cyclic_u = options.get("cyclic", False)
+    return link(scene, bpy.data.objects.new(name, data))
+
+
+def add_plane(scene, name="Plane", size=2.0, location=(0.0, 0.0, 0.0)):
+    half = size / 2.0
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([(-half, -half, 0), (half, -half, 0), (half, half, 0), (-half, half, 0)], [],
+                     [(0, 1, 2, 3)])
+    ob = link(scene, bpy.data.objects.new(name, mesh))
+    ob.location = location
+    return ob
+
+
+def depsgraph():
+    graph = bpy.context.evaluated_depsgraph_get()
+    graph.update()
+    return graph

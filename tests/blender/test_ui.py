@@ -1,0 +1,78 @@
+"""Panels: poll only for Purl, and every property a draw() shows exists (headless Blender has no
+UILayout, so a recording stand-in takes its place)."""
+from importlib import import_module
+from types import SimpleNamespace
+
+import bpy
+import pytest
+
+from builders import add_light, compat
+
+
+class RecordingLayout:
+    """Accepts any layout call; checks that prop() names a real property of its data."""
+
+    def __init__(self, shown):
+        self.shown = shown
+
+    def prop(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties, "{} has no property {}".format(data, name)
+        self.shown.append(name)
+        return self
+
+    def __getattr__(self, name):
+        if name in {"use_property_split", "active", "alert", "enabled"}:
+            return False
+        return lambda *args, **kwargs: self
+
+    def __setattr__(self, name, value):
+        object.__setattr__(self, name, value)
+
+
+def draw(panel_class, context):
+    shown = []
+    panel = SimpleNamespace(layout=RecordingLayout(shown))
+    panel_class.draw(panel, context)
+    return shown
+
+
+@pytest.fixture
+def ui(purl):
+    return import_module(purl.__name__ + ".ui")
+
+
+def test_panels_poll_only_for_purl(ui, scene):
+    material = bpy.data.materials.new("Wool")
+    context = SimpleNamespace(engine="CYCLES", material=material, scene=scene, light=None)
+    assert not ui.PURL_PT_material.poll(context) and not ui.PURL_PT_render.poll(context)
+    context.engine = "PURL"
+    assert ui.PURL_PT_material.poll(context) and ui.PURL_PT_render.poll(context)
+
+
+def test_material_panel_shows_every_native_parameter(ui, core, scene):
+    material = bpy.data.materials.new("Wool")
+    context = SimpleNamespace(engine="PURL", material=material, scene=scene)
+    shown = draw(ui.PURL_PT_material, context)
+    names = {p["name"] for p in core.material_parameters(material.purl.model)}
+    assert names <= set(shown) and "model_choice" in shown and "mode" in shown
+    plies = draw(ui.PURL_PT_material_plies, context)
+    assert "ply_color_3" in plies and "color_attribute" in plies
+
+
+@pytest.mark.parametrize("kind", ["POINT", "SPOT", "SUN", "AREA"])
+def test_light_panel_draws_each_type(ui, scene, kind):
+    light = add_light(scene, kind).data
+    shown = draw(ui.PURL_PT_light, SimpleNamespace(engine="PURL", light=light, scene=scene))
+    assert "energy" in shown and "color" in shown
+
+
+def test_render_and_world_panels_draw(ui, scene):
+    context = SimpleNamespace(engine="PURL", scene=scene)
+    assert "samples" in draw(ui.PURL_PT_render, context)
+    compat.enable_nodes(scene.world)
+    assert "default_value" in draw(ui.PURL_PT_world, context)
+
+
+def test_blenders_own_panels_accept_purl(ui):
+    assert "PURL" in bpy.types.RENDER_PT_format.COMPAT_ENGINES
+    assert "PURL" in bpy.types.DATA_PT_lens.COMPAT_ENGINES

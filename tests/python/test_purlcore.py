@@ -1,0 +1,150 @@
+"""The purlcore module: scenes from dicts and numpy arrays, renders, jobs, errors."""
+import math
+import os
+import shutil
+import subprocess
+import time
+
+import numpy as np
+import pytest
+
+import purlcore
+
+
+def yarn_arrays(curves=3, points=10, radius=0.05):
+    pts, offsets = [], [0]
+    for c in range(curves):
+        for i in range(points):
+            pts.append((-0.5 + 0.1 * i, -0.2 + 0.2 * c, 0.05 * math.sin(i + c)))
+        offsets.append(len(pts))
+    pts = np.asarray(pts, dtype=np.float32)
+    return {
+        "points": pts,
+        "radii": np.full(len(pts), radius, dtype=np.float32),
+        "offsets": np.asarray(offsets, dtype=np.int64),
+    }
+
+
+def scene(width=24, height=16, spp=4, **extra):
+    s = {
+        "camera": {"position": [0, -2.5, 1.5], "look_at": [0, 0, 0], "lens": 40},
+        "film": {"width": width, "height": height},
+        "render": {"spp": spp},
+        "world": {"color": [0.6, 0.7, 0.8]},
+        "lights": [{"type": "area", "position": [1, -1, 2], "look_at": [0, 0, 0], "power": 50}],
+        "yarns": [{"arrays": "knit", "material": {"model": "placeholder", "color": [0.8, 0.2, 0.1]}}],
+    }
+    s.update(extra)
+    return s
+
+
+def test_render_returns_all_passes_with_yarn_pixels():
+    passes = purlcore.render(scene(), {"knit": yarn_arrays()})
+    assert set(passes) == {"Combined", "Depth", "Normal", "YarnID"}
+    assert passes["Combined"].shape == (16, 24, 4)
+    assert passes["Depth"].shape == (16, 24, 1)
+    ids = passes["YarnID"][..., 0]
+    assert (ids > 0).sum() > 20, "the yarns should cover part of the image"
+    assert set(np.unique(ids)) <= {0.0, 1.0, 2.0, 3.0}
+    yarn = passes["Combined"][ids > 0]
+    assert np.all(np.isfinite(yarn)) and yarn[:, 0].mean() > yarn[:, 2].mean(), "red yarn"
+
+
+def test_same_seed_same_image_other_seed_other_image():
+    arrays = {"knit": yarn_arrays()}
+    a = purlcore.render(scene(), arrays, seed=3)["Combined"]
+    b = purlcore.render(scene(), arrays, seed=3, threads=1)["Combined"]
+    c = purlcore.render(scene(), arrays, seed=4)["Combined"]
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, c)
+
+
+def test_unknown_key_is_an_error_naming_it():
+    s = scene()
+    s["yarns"][0]["materail"] = {}
+    with pytest.raises(purlcore.Error, match=r"yarns\[0\]\.materail: unknown key"):
+        purlcore.RenderJob(s, {"knit": yarn_arrays()})
+
+
+def test_bad_arrays_are_errors():
+    arrays = yarn_arrays()
+    arrays["points"][5, 1] = np.nan
+    with pytest.raises(purlcore.Error, match="not finite"):
+        purlcore.RenderJob(scene(), {"knit": arrays})
+    arrays = yarn_arrays()
+    arrays["radii"][:] = 0
+    with pytest.raises(purlcore.Error, match="radius"):
+        purlcore.RenderJob(scene(), {"knit": arrays})
+    with pytest.raises(purlcore.Error, match="no array set"):
+        purlcore.RenderJob(scene(), {})
+    arrays = yarn_arrays()
+    arrays["points"] = arrays["points"][:, :2]
+    with pytest.raises(purlcore.Error, match=r"shape \(N, 3\)"):
+        purlcore.RenderJob(scene(), {"knit": arrays})
+
+
+def test_job_progress_cancel_and_nothing_written(tmp_path):
+    job = purlcore.RenderJob(scene(width=200, height=200, spp=2048), {"knit": yarn_arrays()})
+    job.start()
+    time.sleep(0.2)
+    assert 0.0 <= job.progress < 1.0
+    t0 = time.monotonic()
+    job.cancel()
+    assert job.wait(timeout=5.0)
+    assert time.monotonic() - t0 < 2.0
+    assert job.cancelled and job.done
+    out = tmp_path / "never.exr"
+    with pytest.raises(RuntimeError, match="cancelled"):
+        job.write(str(out))
+    assert not out.exists()
+
+
+def test_progress_callback_can_cancel():
+    calls = []
+
+    def progress(fraction):
+        calls.append(fraction)
+        return len(calls) < 2
+
+    with pytest.raises(purlcore.Error, match="cancelled"):
+        purlcore.render(scene(width=200, height=200, spp=2048), {"knit": yarn_arrays()}, progress=progress)
+    assert calls
+
+
+def test_write_multilayer_exr_with_blender_channel_names(tmp_path):
+    job = purlcore.RenderJob(scene(), {"knit": yarn_arrays()})
+    job.start()
+    job.wait()
+    exr, png = tmp_path / "r.exr", tmp_path / "r.png"
+    job.write(str(exr), str(png))
+    assert exr.stat().st_size > 0 and png.stat().st_size > 0
+    stats = job.stats()
+    assert stats["samples"] == 24 * 16 * 4 and stats["rays"] > stats["samples"]
+    if shutil.which("oiiotool"):
+        info = subprocess.run(["oiiotool", "--info", "-v", str(exr)], capture_output=True, text=True).stdout
+        for channel in ("ViewLayer.Combined.R", "ViewLayer.Combined.A", "ViewLayer.Depth.Z",
+                        "ViewLayer.Normal.X", "ViewLayer.YarnID.X"):
+            assert channel in info
+
+
+def test_meshes_from_arrays_and_holdout():
+    plane = {
+        "vertices": np.array([[-5, -5, -0.1], [5, -5, -0.1], [5, 5, -0.1], [-5, 5, -0.1]], np.float32),
+        "triangles": np.array([[0, 1, 2], [0, 2, 3]]),
+    }
+    s = scene(meshes=[{"arrays": "floor", "holdout": True}])
+    passes = purlcore.render(s, {"knit": yarn_arrays(), "floor": plane})
+    alpha = passes["Combined"][..., 3]
+    ids = passes["YarnID"][..., 0]
+    assert alpha[ids > 0].min() > 0.5 and alpha[(ids == 0)].max() < 0.5
+
+
+def test_material_parameters_carry_units_and_ranges():
+    params = purlcore.material_parameters("placeholder")
+    names = {p["name"] for p in params}
+    assert {"color", "roughness", "specular"} <= names
+    for p in params:
+        assert p["min"] <= (p["default"][0] if p["components"] == 3 else p["default"]) <= p["max"]
+        assert p["doc"]
+    with pytest.raises(ValueError):
+        purlcore.material_parameters("no-such-model")
