@@ -9,6 +9,20 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 DOC = os.path.join(HERE, "..", "docs", "parameters.md")
 
 
+def table(rows):
+    lines = ["| name | unit | components | range | default | meaning |", "|---|---|---|---|---|---|"]
+    for p in rows:
+        default = p["default"]
+        if isinstance(default, (tuple, list)):
+            default = ", ".join(f"{v:g}" for v in default)
+        else:
+            default = f"{default:g}"
+        unit = p["unit"] or "—"
+        kind = "colour" if p["is_color"] else str(p["components"])
+        lines.append(f"| `{p['name']}` | {unit} | {kind} | {p['min']:g} … {p['max']:g} | {default} | {p['doc']} |")
+    return lines + [""]
+
+
 def render_markdown(purlcore):
     lines = [
         "# Material parameters",
@@ -18,17 +32,13 @@ def render_markdown(purlcore):
         "",
     ]
     for model in purlcore.material_models():
-        lines += [f"## `{model}`", "", "| name | unit | components | range | default | meaning |", "|---|---|---|---|---|---|"]
-        for p in purlcore.material_parameters(model):
-            default = p["default"]
-            if isinstance(default, (tuple, list)):
-                default = ", ".join(f"{v:g}" for v in default)
-            else:
-                default = f"{default:g}"
-            unit = p["unit"] or "—"
-            kind = "colour" if p["is_color"] else str(p["components"])
-            lines.append(f"| `{p['name']}` | {unit} | {kind} | {p['min']:g} … {p['max']:g} | {default} | {p['doc']} |")
-        lines.append("")
+        lines += [f"## Material model `{model}`", ""] + table(purlcore.material_parameters(model))
+    lines += [
+        "## Yarn geometry (`material.yarn`, model `bysdf`)",
+        "",
+        "Presets: " + ", ".join(f"`{n}`" for n in purlcore.yarn_presets()) + ".",
+        "",
+    ] + table(purlcore.yarn_parameters())
     return "\n".join(lines)
 
 

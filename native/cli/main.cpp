@@ -126,7 +126,10 @@ int run_info(const std::string& path) {
                 (unsigned long long)header.point_count, curves.point_count());
     std::printf("bounds (Z-up) min %.4g %.4g %.4g  max %.4g %.4g %.4g  size %.4g x %.4g x %.4g\n", lo.x, lo.y,
                 lo.z, hi.x, hi.y, hi.z, hi.x - lo.x, hi.y - lo.y, hi.z - lo.z);
-    if (!header.info.empty()) std::printf("info         %s\n", header.info.c_str());
+    std::string info;  // the header's free text; keep only printable characters
+    for (char c : header.info)
+        if (c >= 32 && c < 127) info += c;
+    if (info.find_first_not_of(" ") != std::string::npos) std::printf("info         %s\n", info.c_str());
     return 0;
 }
 

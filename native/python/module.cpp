@@ -10,7 +10,9 @@
 #include <optional>
 #include <thread>
 
+#include "bsdf/bysdf_params.h"
 #include "bsdf/placeholder.h"
+#include "yarn/yarn_description.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
@@ -256,6 +258,7 @@ py::list describe_parameters(const std::vector<ParamInfo>& table) {
 
 const std::vector<ParamInfo>& parameter_table(const std::string& model) {
     if (model == "placeholder") return placeholder_param_table();
+    if (model == "bysdf") return bysdf_param_table();
     throw py::value_error("unknown material model '" + model + "'");
 }
 
@@ -311,7 +314,10 @@ PYBIND11_MODULE(purlcore, m) {
         py::arg("scene"), py::arg("arrays") = py::none(), py::arg("base_dir") = "", py::arg("spp") = py::none(),
         py::arg("seed") = py::none(), py::arg("threads") = 0, py::arg("progress") = py::none(),
         "Render and return the passes; progress(fraction) returning False cancels.");
-    m.def("material_models", [] { return std::vector<std::string>{"placeholder"}; });
+    m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder"}; });
+    m.def("yarn_parameters", [] { return describe_parameters(yarn_description_params()); },
+          "The yarn geometry parameters (plies, twist, fibers, migration) of the bysdf model.");
+    m.def("yarn_presets", &yarn_preset_names, "Names accepted by material.yarn.preset.");
     m.def("material_parameters", [](const std::string& model) { return describe_parameters(parameter_table(model)); },
           py::arg("model") = "placeholder", "Every parameter of a material model with unit, range, default and doc.");
     m.def(

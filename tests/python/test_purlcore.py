@@ -27,7 +27,7 @@ def yarn_arrays(curves=3, points=10, radius=0.05):
 
 def scene(width=24, height=16, spp=4, **extra):
     s = {
-        "camera": {"position": [0, -2.5, 1.5], "look_at": [0, 0, 0], "lens": 40},
+        "camera": {"position": [0, -1.6, 1.0], "look_at": [0, 0, 0], "lens": 40},
         "film": {"width": width, "height": height},
         "render": {"spp": spp},
         "world": {"color": [0.6, 0.7, 0.8]},
@@ -136,7 +136,11 @@ def test_meshes_from_arrays_and_holdout():
     passes = purlcore.render(s, {"knit": yarn_arrays(), "floor": plane})
     alpha = passes["Combined"][..., 3]
     ids = passes["YarnID"][..., 0]
-    assert alpha[ids > 0].min() > 0.5 and alpha[(ids == 0)].max() < 0.5
+    # The floor fills the view: where it is seen, it is cut out; only yarn pixels stay opaque.
+    assert (alpha == 0).mean() > 0.3
+    assert np.all(ids[alpha == 1] > 0) and (alpha == 1).sum() > 20
+    opaque = purlcore.render(scene(meshes=[{"arrays": "floor"}]), {"knit": yarn_arrays(), "floor": plane})
+    assert np.all(opaque["Combined"][..., 3] == 1)
 
 
 def test_material_parameters_carry_units_and_ranges():

@@ -40,6 +40,7 @@ constexpr double kBSplineToBezier[4][4] = {{1 / 6.0, 4 / 6.0, 1 / 6.0, 0},
                                            {0, 2 / 6.0, 4 / 6.0, 0},
                                            {0, 1 / 6.0, 4 / 6.0, 1 / 6.0}};
 
+// Independent segment: 4 points of its own, shared with no neighbour.
 void append_segment(BSplineSegments& out, const Vec4 cp[4]) {
     out.segment_first.push_back(static_cast<uint32_t>(out.points.size()));
     out.points.insert(out.points.end(), cp, cp + 4);
@@ -58,6 +59,7 @@ BSplineSegments make_chain(std::vector<Vec4> cps, bool closed) {
     return out;
 }
 
+// For error messages.
 std::string basis_name(CurveBasis b) {
     switch (b) {
         case CurveBasis::BSpline: return "B-spline";
@@ -100,6 +102,7 @@ void catmull_rom_to_bspline(const Vec4 cr[4], Vec4 out[4]) { apply(kCatmullRomTo
 void bezier_to_bspline(const Vec4 bz[4], Vec4 out[4]) { apply(kBezierToBSpline, bz, out); }
 void bspline_to_bezier(const Vec4 bs[4], Vec4 out[4]) { apply(kBSplineToBezier, bs, out); }
 
+// Uniform Catmull-Rom (tension 1/2): passes through p1 at t = 0 and p2 at t = 1.
 Vec4 eval_catmull_rom(const Vec4 p[4], float tf) {
     const double t = tf, t2 = t * t, t3 = t2 * t;
     const double w0 = 0.5 * (-t3 + 2 * t2 - t), w1 = 0.5 * (3 * t3 - 5 * t2 + 2);
@@ -156,7 +159,7 @@ std::vector<Vec4> interpolate_bspline(const Vec4* points, size_t n, bool closed)
 
     // Closed: cyclic system (1, 4, 1) x = 6 p. Sherman-Morrison: A = T + u v^T with
     // u = (g, 0.., 1), v = (1, 0.., 1/g), T tridiagonal with corners folded into the diagonal.
-    const double g = -4.0;
+    const double g = -4.0;  // any g != 0 works; minus the diagonal keeps T diagonally dominant
     std::vector<double> diag(n, 4.0);
     diag[0] -= g;
     diag[n - 1] -= 1.0 / g;
@@ -198,6 +201,7 @@ BSplineSegments to_bspline_segments(CurveBasis basis, const Vec4* points, size_t
         throw std::invalid_argument("to_bspline_segments: " + std::to_string(n) + " points cannot form " +
                                     (closed ? "a closed " : "an open ") + basis_name(basis) + " curve");
     switch (basis) {
+        // Already the target basis: copied as a chain.
         case CurveBasis::BSpline:
             return make_chain(std::vector<Vec4>(points, points + n), closed);
         case CurveBasis::Polyline:
@@ -218,6 +222,7 @@ BSplineSegments to_bspline_segments(CurveBasis basis, const Vec4* points, size_t
             }
             return out;
         }
+        // Segments share end points in the file (3k+1 points), never control points here.
         case CurveBasis::Bezier: {
             BSplineSegments out;
             const size_t segments = closed ? n / 3 : (n - 1) / 3;

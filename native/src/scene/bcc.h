@@ -51,10 +51,6 @@ YarnCurves load_bcc(const std::string& path, float radius);
 // The Y-up -> Z-up rotation (+90 degrees about X; determinant +1, so handedness is kept).
 inline Vec3 bcc_y_up_to_z_up(Vec3 p) { return {p.x, -p.z, p.y}; }
 
-// Appends one converted curve to `curves` (a chain stays a chain, segments stay segments).
-void add_bspline_segments(YarnCurves& curves, const BSplineSegments& segments, bool closed,
-                          int32_t id);
-
 // Writes curves as a Z-up "BS" file. Chains are written as they are (closed loops without
 // their 3 wrapped points, as a negative count); a curve made of independent segments is
 // written as one open 4-point curve per segment. Radii are dropped (BCC has none).

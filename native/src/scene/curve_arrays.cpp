@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "scene/bcc.h"
 #include "scene/input_error.h"
 
 namespace purl {
@@ -44,7 +43,7 @@ YarnCurves curves_from_arrays(const CurveArrays& a, const std::string& source) {
             points[i] = Vec4(p[0], p[1], p[2], r);
         }
         const int32_t id = a.ids ? a.ids[c] : static_cast<int32_t>(c);
-        add_bspline_segments(curves, to_bspline_segments(a.basis, points.data(), n, closed), closed, id);
+        curves.add(to_bspline_segments(a.basis, points.data(), n, closed), closed, id);
     }
     validate_curves(curves, source);
     return curves;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "math/spline_convert.h"
 #include "math/vec.h"
 
 namespace purl {
@@ -47,6 +48,17 @@ struct YarnCurves {
         control_points.insert(control_points.end(), points, points + 4 * segments);
         for (uint32_t s = 0; s < segments; ++s) segment_first.push_back(first + 4 * s);
         finish_curve(is_closed, id);
+    }
+
+    // Appends one converted curve: a chain stays a chain, segments stay segments.
+    void add(const BSplineSegments& converted, bool is_closed, int32_t id = -1) {
+        if (converted.is_chain()) {
+            // add_curve wraps closed loops itself, so hand it the points before wrapping.
+            const size_t n = converted.points.size() - (is_closed ? 3 : 0);
+            add_curve(converted.points.data(), n, is_closed, id);
+        } else {
+            add_curve_segments(converted.points.data(), converted.segment_count(), is_closed, id);
+        }
     }
 
 private:

@@ -3,9 +3,11 @@
 #include <string>
 #include <vector>
 
+#include "bsdf/bysdf_params.h"
 #include "bsdf/placeholder.h"
 #include "math/transform.h"
 #include "scene/curves.h"
+#include "yarn/yarn_description.h"
 
 namespace purl {
 
@@ -60,8 +62,11 @@ struct WorldDesc {
 };
 
 struct MaterialDesc {
-    std::string model = "placeholder";
-    PlaceholderParams placeholder;
+    std::string model = "bysdf";   // "bysdf" or "placeholder"
+    PlaceholderParams placeholder;  // used by "placeholder"
+    BysdfParams bysdf;              // used by "bysdf": appearance
+    YarnDescription yarn;           // used by "bysdf": plies and fibers found implicitly
+    MaterialDesc();
 };
 
 struct YarnSetDesc {

@@ -125,9 +125,19 @@ void read_params(JsonObject& o, const std::vector<ParamInfo>& table, Params& par
 
 MaterialDesc read_material(JsonObject o) {
     MaterialDesc m;
-    m.model = o.choice("model", "placeholder", {"placeholder"});
-    apply_defaults(m.placeholder, placeholder_param_table());
-    read_params(o, placeholder_param_table(), m.placeholder);
+    m.model = o.choice("model", "bysdf", {"bysdf", "placeholder"});
+    if (m.model == "placeholder") {
+        read_params(o, placeholder_param_table(), m.placeholder);
+    } else {
+        read_params(o, bysdf_param_table(), m.bysdf);
+        if (o.has("yarn")) {
+            JsonObject y = o.object("yarn");
+            if (y.has("preset")) m.yarn = yarn_preset(y.string("preset", ""));
+            read_params(y, yarn_description_params(), m.yarn);
+            y.finish();
+            check_yarn_description(m.yarn, y.file(), y.path());
+        }
+    }
     o.finish();
     return m;
 }
@@ -157,12 +167,18 @@ YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const Exter
         SwatchOptions options;
         const SwatchKind kind = parse_swatch_kind(g.string("kind", "knit"));
         options.yarn_radius = g.number("radius", options.yarn_radius, 1e-9f, kHuge);
+        options.courses = g.integer("courses", options.courses, 1, 10000);
+        options.wales = g.integer("wales", options.wales, 1, 10000);
+        options.warps = g.integer("warps", options.warps, 1, 10000);
+        options.wefts = g.integer("wefts", options.wefts, 1, 10000);
+        options.spacing = g.number("spacing", 0.0f, 0.0f, kHuge);
+        options.twill_over = g.integer("twill_over", options.twill_over, 1, 16);
+        options.twill_under = g.integer("twill_under", options.twill_under, 1, 16);
         g.finish();
         y.curves = generate_swatch(kind, options);
     }
     if (o.has("matrix_world")) transform_curves(y.curves, o.transform("matrix_world"));
     if (o.has("material")) y.material = read_material(o.object("material"));
-    else apply_defaults(y.material.placeholder, placeholder_param_table());
     o.finish();
     validate_curves(y.curves, o.file() + ": " + o.path());
     return y;

@@ -15,8 +15,8 @@ namespace {
 // The sin 2t term narrows the legs at their feet (the "V"), so the legs of the course above
 // cross this course's head from inside the loop: each half-loop links the loop below once.
 // Courses overlap (2b > h) so feet reach under the previous head. The numbers come from a
-// search maximising clearance per loop area: they keep 2.2 R between any two courses and
-// 2.2 R between non-neighbouring parts of one course, with curvature radius >= 2.6 R.
+// search maximising clearance per loop area. Measured on the generated B-splines: 2.20 R
+// between courses, 2.28 R between distant parts of one course, curvature radius >= 2.5 R.
 constexpr double kKnitWale = 9.5;     // w, wale spacing
 constexpr double kKnitCourse = 4.8;   // h, course spacing
 constexpr double kKnitNarrow = 2.3;   // a, leg narrowing
@@ -25,7 +25,8 @@ constexpr double kKnitDepth = 2.4;    // d, front/back excursion
 constexpr int kKnitNodesPerLoop = 16; // interpolation nodes per loop
 
 // Weave crossings sit +-1.15 R from the mid-plane (2.3 R between centre-lines); with yarns
-// 5 R apart the interpolated crimp keeps >= 2.1 R between warp and weft everywhere.
+// 5 R apart the interpolated crimp keeps >= 2.12 R between warp and weft everywhere
+// (measured: plain 2.21 R, twill 2/1 2.14 R, 2/2 2.13 R, satin 2.18 R).
 constexpr double kWeaveCrimp = 1.15;
 constexpr double kWeaveSpacing = 5.0;
 constexpr int kSatinHarness = 5, kSatinStep = 2;  // 5-harness satin, move number 2

@@ -70,7 +70,8 @@ PlyCut cut_at(const CurveFrames& frames, const YarnDescription& d, const YarnTwi
 struct Candidate {
     int ply = 0;
     PlyCut cut;
-    float enter = 0, leave = 0;
+    float enter = 0, leave = 0;  // ray distances from the tube entry, m
+    float approach = 0;          // ray distance of the closest approach to the ply centre-line, m
 };
 
 // The ply surface point, frame and coordinates for a hit at `point`.
@@ -283,6 +284,80 @@ PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const
     return h;
 }
 
+// Where the ray enters the ply around one closest approach: the entry into the cut's
+// cylinder, moved a few times to the cylinder at the helix point closest to it. If that does
+// not settle (the ray runs nearly along the ply), a bracketed search on the distance to the
+// helix between the tube entry and the closest approach. False when the ray misses the ply.
+float helix_gap(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
+                int ply, float lambda, PlyCut& cut, int& evaluations) {
+    const Vec3 x = hit.point + hit.direction * lambda;
+    for (int step = 0; step < 3; ++step) {
+        const Vec3 dp = cut.centre.derivative;
+        const float ds = dot(x - cut.centre.position, dp) / dot(dp, dp);
+        cut = cut_at(frames, d, tw, ply, cut.g + ds / std::max(cut.yarn.speed, 1e-30f));
+        ++evaluations;
+        if (std::fabs(ds) < 1e-4f * cut.centre.radius) break;
+    }
+    const Vec3 r = x - cut.centre.position;
+    const Vec3 axis = normalize(cut.centre.derivative);
+    return length(r - axis * dot(r, axis)) - cut.centre.radius;
+}
+
+bool enter_ply(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
+               bool exact_approach, float tolerance, int refinements, float max_shift, Candidate& cand,
+               int& evaluations) {
+    PlyCut cut = cand.cut;
+    const float lambda_max = exact_approach ? std::max(cand.approach, 0.0f) : 1e30f;
+    bool hits = intersect_cylinder(hit.point, hit.direction, cut.centre.position, normalize(cut.centre.derivative),
+                                   cut.centre.radius, cand.enter, cand.leave);
+    if (!hits && !exact_approach) return false;
+    float lambda = hits ? clamp(cand.enter, 0.0f, lambda_max) : lambda_max;
+    for (int r = 0; r < refinements; ++r) {
+        const Vec3 x = hit.point + hit.direction * lambda;
+        const Vec3 dp = cut.centre.derivative;
+        const float ds = clamp(dot(x - cut.centre.position, dp) / dot(dp, dp), -max_shift, max_shift);
+        cut = cut_at(frames, d, tw, cand.ply, cut.g + ds / std::max(cut.yarn.speed, 1e-30f));
+        ++evaluations;
+        hits = intersect_cylinder(hit.point, hit.direction, cut.centre.position, normalize(cut.centre.derivative),
+                                  cut.centre.radius, cand.enter, cand.leave);
+        if (!hits) break;
+        lambda = clamp(cand.enter, 0.0f, lambda_max);
+        if (std::fabs(ds) < tolerance) {
+            cand.cut = cut;
+            cand.enter = lambda;
+            return true;
+        }
+    }
+    if (!exact_approach) {  // the yarn-plane variant has no bracket: keep the last cylinder
+        cand.cut = cut;
+        cand.enter = lambda;
+        return hits;
+    }
+    // Bracket: outside at the tube entry (else the ray starts in the ply), inside at the approach.
+    cut = cand.cut;
+    float lo = 0, hi = lambda_max;
+    PlyCut lo_cut = cut, hi_cut = cut;
+    float h_lo = helix_gap(frames, d, tw, hit, cand.ply, lo, lo_cut, evaluations);
+    if (h_lo <= 0) {
+        cand.cut = lo_cut;
+        cand.enter = 0;
+        return true;
+    }
+    float h_hi = helix_gap(frames, d, tw, hit, cand.ply, hi, hi_cut, evaluations);
+    if (h_hi > 0) return false;
+    for (int step = 0; step < 30 && hi - lo > tolerance; ++step) {
+        float mid = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
+        if (!(mid > lo + 0.05f * (hi - lo) && mid < hi - 0.05f * (hi - lo))) mid = 0.5f * (lo + hi);
+        PlyCut mid_cut = h_hi > -h_lo ? lo_cut : hi_cut;
+        const float h = helix_gap(frames, d, tw, hit, cand.ply, mid, mid_cut, evaluations);
+        if (h > 0) lo = mid, h_lo = h, lo_cut = mid_cut;
+        else hi = mid, h_hi = h, hi_cut = mid_cut;
+    }
+    cand.cut = hi_cut;
+    cand.enter = hi;
+    return true;
+}
+
 PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
                         const YarnTubeHit& hit, const CentrelineProjection& at, const PlyTraceOptions& options) {
     const CurvePoint& c = at.point;
@@ -307,23 +382,42 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     const float along = dot(hit.direction, c.tangent);
     const float tan_psi = std::fabs(along) / across_length;
     const float ply_radius = d.ply_radius * radius;
-    // On a bend the straight tube's chord is only a guess: widen with the curvature.
-    const float bend = std::min(1.0f, 2 * length(c.curvature) * radius);
-    const float margin = ply_radius * (1 + tan_psi) + 0.05f * radius + (0.1f + bend) * chord * std::fabs(along);
-    const float s_lo = std::min(0.0f, chord * along) - margin, s_hi = std::max(0.0f, chord * along) + margin;
+    const float margin = ply_radius * (1 + tan_psi) + 0.05f * radius + 0.1f * chord * std::fabs(along);
+    float s_lo = std::min(0.0f, chord * along) - margin, s_hi = std::max(0.0f, chord * along) + margin;
     const double g0 = at.segment + double(at.t), inv_speed = 1.0 / std::max(c.speed, 1e-30f);
     plane.g_lo = g0 + s_lo * inv_speed;
     plane.g_hi = g0 + s_hi * inv_speed;
+    if (length(c.curvature) * radius > 0.02f) {
+        // On a bend the straight tube's chord is only a guess: find where the ray really leaves.
+        const TubeExit exit = tube_exit(frames, at.segment, at.t, hit.point, hit.direction);
+        double g_exit = exit.segment + double(exit.t), n = frames.segment_count();
+        if (frames.closed()) g_exit = g0 + std::remainder(g_exit - g0, n);
+        const double pad = margin * inv_speed;
+        plane.g_lo = std::min(plane.g_lo, std::min(g0, g_exit) - pad);
+        plane.g_hi = std::max(plane.g_hi, std::max(g0, g_exit) + pad);
+        s_lo = static_cast<float>((plane.g_lo - g0) * c.speed);
+        s_hi = static_cast<float>((plane.g_hi - g0) * c.speed);
+    }
+    if (!frames.closed()) {  // open yarns end: no plies beyond them
+        plane.g_lo = std::max(plane.g_lo, 0.0);
+        plane.g_hi = std::min(plane.g_hi, double(frames.segment_count()));
+        s_lo = static_cast<float>((plane.g_lo - g0) * c.speed);
+        s_hi = static_cast<float>((plane.g_hi - g0) * c.speed);
+    }
     // A ply's closest approaches to the ray are about a turn apart: sub-intervals of at most
     // scan_turn radians of ply turn hold at most one each.
     plane.samples = std::min(32, 1 + static_cast<int>((s_hi - s_lo) * std::fabs(tw.ply_rate) / options.scan_turn));
     const float half = s_hi - s_lo;  // bound on refinement steps, m
     int evaluations = 0;
 
-    Candidate candidates[kMaxPlies * 8];
-    int count = 0, worst = 0;
-    bool converged = true;
+    // A closest approach within the ply radius is a crossing; where the ray enters the ply
+    // there comes from the cut's cylinder, corrected against the helix (enter_ply).
+    const float tolerance = options.tolerance * radius;
     uint32_t crossed_mask = 0;
+    bool converged = true;
+    int best = -1, worst = 0;
+    Candidate candidates[kMaxPlies * 8];
+    int count = 0;
     for (int ply = 0; ply < d.plies(); ++ply) {
         Pierces p = pierce(frames, d, tw, ply, plane, options, radius);
         evaluations += p.evaluations;
@@ -333,55 +427,22 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
             converged = false;
             if (p.count == 0) p.cuts[p.count++] = cut_at(frames, d, tw, ply, g0);
         }
-        // Near misses stay candidates too: the refinement below decides on the curved ply.
         for (int k = 0; k < p.count; ++k) {
             Candidate cand{ply, p.cuts[k]};
-            if (intersect_cylinder(hit.point, hit.direction, cand.cut.centre.position,
-                                   normalize(cand.cut.centre.derivative), 1.25f * cand.cut.centre.radius, cand.enter,
-                                   cand.leave))
-                candidates[count++] = cand;
+            const Vec3 w = cand.cut.centre.position - hit.point;
+            cand.approach = dot(w, hit.direction);
+            const float miss = length(w - hit.direction * cand.approach);
+            if (miss > cand.cut.centre.radius && plane.ply_plane) continue;  // passes beside the ply
+            candidates[count++] = cand;
         }
     }
-    // Correct each candidate against the helix point closest to its hit (or, while the ray
-    // misses the local cylinder, to the ray's closest approach), a few times: the cut's
-    // cylinder is only tangent to the helix at the piercing. Then the nearest one wins.
-    const float tolerance = options.tolerance * radius;
-    int best = -1;
     for (int i = 0; i < count; ++i) {
         Candidate& cand = candidates[i];
-        bool hits = intersect_cylinder(hit.point, hit.direction, cand.cut.centre.position,
-                                       normalize(cand.cut.centre.derivative), cand.cut.centre.radius, cand.enter,
-                                       cand.leave);
-        for (int r = 0; r < options.refinements; ++r) {
-            const Vec3 axis = normalize(cand.cut.centre.derivative);
-            Vec3 x;
-            if (hits) {
-                x = hit.point + hit.direction * std::max(cand.enter, 0.0f);
-            } else {
-                const Vec3 w = hit.point - cand.cut.centre.position;
-                const float b = dot(hit.direction, axis);
-                const float lambda = (b * dot(axis, w) - dot(hit.direction, w)) / std::max(1 - b * b, 1e-6f);
-                x = hit.point + hit.direction * std::max(lambda, 0.0f);
-            }
-            const Vec3 dp = cand.cut.centre.derivative;
-            const float ds = clamp(dot(x - cand.cut.centre.position, dp) / dot(dp, dp), -half - radius, half + radius);
-            cand.cut = cut_at(frames, d, tw, cand.ply, cand.cut.g + ds / std::max(cand.cut.yarn.speed, 1e-30f));
-            ++evaluations;
-            hits = intersect_cylinder(hit.point, hit.direction, cand.cut.centre.position,
-                                      normalize(cand.cut.centre.derivative), cand.cut.centre.radius, cand.enter,
-                                      cand.leave);
-            if (std::fabs(ds) < tolerance) break;
-        }
-        if (!hits) {
-            cand.enter = 1e30f;
+        if (!enter_ply(frames, d, tw, hit, plane.ply_plane, tolerance, options.refinements, half, cand, evaluations))
             continue;
-        }
+        crossed_mask |= 1u << cand.ply;
         if (best < 0 || cand.enter < candidates[best].enter) best = i;
     }
-    // N_i: plies with at least one confirmed crossing.
-    crossed_mask = 0;
-    for (int i = 0; i < count; ++i)
-        if (candidates[i].enter < 1e29f) crossed_mask |= 1u << candidates[i].ply;
     if (best >= 0) {
         const Candidate& cand = candidates[best];
         const Vec3 point = hit.point + hit.direction * std::max(cand.enter, 0.0f);

@@ -97,7 +97,8 @@ YarnDescription touching_plies(int plies, float ply_twist) {
 std::vector<Vec4> validation_curve(float curvature_radius) {
     std::vector<Vec4> points;
     if (curvature_radius <= 0) {
-        for (int i = 0; i < 40; ++i) points.emplace_back(0.0f, 0.0f, float(i), 1.0f);
+        // Long enough that a ray at 85 degrees through the middle third stays off the ends.
+        for (int i = 0; i < 80; ++i) points.emplace_back(0.0f, 0.0f, float(i), 1.0f);
         return points;
     }
     // Control points on a circle: the uniform B-spline runs at radius a (2 + cos step) / 3.
@@ -136,9 +137,9 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
     Rng rng(c.seed, 0x5eed);
     int made = 0;
     for (int attempt = 0; made < c.rays && attempt < 4 * c.rays; ++attempt) {
-        // Straight yarns: the middle third, away from the ends; loops: anywhere.
+        // Straight yarns: the middle fifth, away from the ends; loops: anywhere.
         const float g = c.curvature_radius > 0 ? rng.next_float() * segments
-                                               : segments * (0.35f + 0.3f * rng.next_float());
+                                               : segments * (0.4f + 0.2f * rng.next_float());
         const uint32_t segment = std::min(static_cast<uint32_t>(g), segments - 1);
         const float side = 2 * kPi * rng.next_float();
         const float offset = 2 * rng.next_float() - 1;

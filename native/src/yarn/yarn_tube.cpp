@@ -61,6 +61,10 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
 }
 
 float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
+    return tube_exit(frames, segment, t, point, direction).distance;
+}
+
+TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
     const Projected start = project(frames, point, segment, t, 6);
     const CurvePoint& c = start.c;
     const float radius = std::max(c.radius, 1e-30f);
@@ -80,7 +84,7 @@ float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Ve
     float tt = start.t;
     float lo = 0, hi = -1, h_lo = -radius, h_hi = 0;
     float h = outside_distance(frames, point + direction * guess, seg, tt);
-    if (std::fabs(h) < 1e-5f * radius) return guess;
+    if (std::fabs(h) < 1e-5f * radius) return {guess, seg, tt};
     if (h > 0) {
         hi = guess;
         h_hi = h;
@@ -99,7 +103,7 @@ float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Ve
             lo = x;
             h_lo = h;
         }
-        if (hi < 0) return std::min(x, max_chord);  // never left: runs along the yarn
+        if (hi < 0) return {std::min(x, max_chord), seg, tt};  // never left: runs along the yarn
     }
     // Regula falsi (Illinois) inside the bracket.
     int side = 0;
@@ -121,7 +125,7 @@ float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Ve
             side = -1;
         }
     }
-    return std::isfinite(x) ? std::max(x, 0.0f) : 0.0f;
+    return {std::isfinite(x) ? std::max(x, 0.0f) : 0.0f, seg, tt};
 }
 
 }  // namespace purl

@@ -26,4 +26,12 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
 // leaves at once.
 float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction);
 
+// The same, with the centre-line parameter closest to the exit point.
+struct TubeExit {
+    float distance = 0;  // m
+    uint32_t segment = 0;
+    float t = 0;
+};
+TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction);
+
 }  // namespace purl

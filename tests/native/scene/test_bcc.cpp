@@ -168,7 +168,7 @@ TEST_F(BccTest, WriteThenReadRoundTrips) {
     y.add_curve(open.data(), open.size(), false);
     y.add_curve(loop.data(), loop.size(), true);
     // A Catmull-Rom loop converted exactly has independent segments: written one by one.
-    add_bspline_segments(y, to_bspline_segments(CurveBasis::CatmullRom, loop.data(), loop.size(), true), true, 7);
+    y.add(to_bspline_segments(CurveBasis::CatmullRom, loop.data(), loop.size(), true), true, 7);
     const std::string path = (dir_ / "round.bcc").string();
     write_bcc(path, y, "round trip");
 

@@ -1,0 +1,152 @@
+#include "yarn/fiber_maps.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "math/rng.h"
+#include "yarn/ply_cross_section.h"
+
+namespace purl {
+namespace {
+
+float wrap_angle(float a) {
+    a = std::fmod(a, 2 * kPi);
+    return a < 0 ? a + 2 * kPi : a;
+}
+
+// The angle half-way (by t) from a to b along the shorter arc.
+float lerp_angle(float a, float b, float t) {
+    return a + std::remainder(b - a, 2 * kPi) * t;
+}
+
+FiberSample blend(const FiberSample& a, const FiberSample& b, float t) {
+    FiberSample s;
+    s.normal_angle = a.normal_angle + (b.normal_angle - a.normal_angle) * t;
+    s.fiber_phase = lerp_angle(a.fiber_phase, b.fiber_phase, t);
+    s.fiber_distance = a.fiber_distance + (b.fiber_distance - a.fiber_distance) * t;
+    s.shadowing = a.shadowing + (b.shadowing - a.shadowing) * t;
+    return s;
+}
+
+struct RawSample {
+    bool hit = false;
+    float normal_angle = 0, fiber_phase = 0, fiber_distance = 0, occlusion = 0;
+};
+
+// The first circle met by the ray from outside toward the centre at `angle`, seen from there.
+RawSample probe(const Circles2D& circles, float angle, float outer_radius) {
+    RawSample s;
+    const Vec2 radial(std::cos(angle), std::sin(angle));
+    float t;
+    const int k = circles.first_hit(radial * outer_radius, radial * -1.0f, 0.0f, t);
+    if (k < 0) return s;
+    const Vec2 point = radial * (outer_radius - t);
+    const Vec2 c = circles.centres[k];
+    const Vec2 normal = (point - c) * (1.0f / circles.radius);
+    s.hit = true;
+    s.normal_angle = std::atan2(radial.x * normal.y - radial.y * normal.x, dot(radial, normal));
+    s.fiber_phase = wrap_angle(std::atan2(c.y, c.x));
+    s.fiber_distance = length(c);
+    s.occlusion = occlusion_2d(circles, point, normal, k);
+    return s;
+}
+
+uint16_t to_unit16(float v) { return static_cast<uint16_t>(std::lround(clamp(v, 0.0f, 1.0f) * 65535.0f)); }
+
+}  // namespace
+
+FiberMaps::FiberMaps(const YarnDescription& d) {
+    check_yarn_description(d, "", "yarn");
+    variants_ = d.variants();
+    resolution_ = d.resolution();
+    std::vector<RawSample> raw(size_t(variants_) * resolution_);
+    float max_occlusion = 0;
+    for (int v = 0; v < variants_; ++v) {
+        const Circles2D fibers = ply_fibers(d, 2 * kPi * v / variants_);
+        for (int i = 0; i < resolution_; ++i) {
+            RawSample& s = raw[size_t(v) * resolution_ + i];
+            s = probe(fibers, 2 * kPi * (i + 0.5f) / resolution_, 1 + 2 * d.fiber_radius);
+            if (s.hit) max_occlusion = std::max(max_occlusion, s.occlusion);
+        }
+    }
+    fiber_.resize(raw.size());
+    for (size_t i = 0; i < raw.size(); ++i) {
+        RawSample s = raw[i];
+        if (!s.hit) {  // the ray crossed the whole ply between fibers: as deep as it gets
+            s.fiber_phase = 2 * kPi * ((i % resolution_) + 0.5f) / resolution_;
+            s.occlusion = max_occlusion;
+        }
+        const float g = max_occlusion > 0 ? 1 - s.occlusion / max_occlusion : 1.0f;
+        fiber_[i] = {static_cast<int16_t>(std::lround(clamp(s.normal_angle, -kPi, kPi) * (32767.0f / kPi))),
+                     static_cast<uint16_t>(std::lround(s.fiber_phase * (65536.0f / (2 * kPi))) & 0xffff),
+                     static_cast<uint16_t>(std::lround(clamp(s.fiber_distance, 0.0f, 1.99f) * 32768.0f)),
+                     to_unit16(g)};
+    }
+
+    // G_p: the plies alone, probed from the yarn surface inward.
+    const Circles2D plies = yarn_plies(d);
+    std::vector<RawSample> ply_raw(resolution_);
+    float max_ply = 0;
+    for (int i = 0; i < resolution_; ++i) {
+        ply_raw[i] = probe(plies, 2 * kPi * (i + 0.5f) / resolution_, 1.0f + 1e-3f);
+        if (ply_raw[i].hit) max_ply = std::max(max_ply, ply_raw[i].occlusion);
+    }
+    ply_.resize(resolution_);
+    for (int i = 0; i < resolution_; ++i) {
+        const float occlusion = ply_raw[i].hit ? ply_raw[i].occlusion : max_ply;
+        ply_[i] = to_unit16(max_ply > 0 ? 1 - occlusion / max_ply : 1.0f);
+    }
+}
+
+FiberSample FiberMaps::unpack(const Packed& p) const {
+    FiberSample s;
+    s.normal_angle = p.normal_angle * (kPi / 32767.0f);
+    s.fiber_phase = p.fiber_phase * (2 * kPi / 65536.0f);
+    s.fiber_distance = p.fiber_distance * (1.0f / 32768.0f);
+    s.shadowing = p.shadowing * (1.0f / 65535.0f);
+    return s;
+}
+
+FiberSample FiberMaps::sample(int variant, float angle) const {
+    // Samples sit at the middle of their bins; blend the two around the angle.
+    const float x = wrap_angle(angle) * (resolution_ / (2 * kPi)) - 0.5f;
+    const float floor_x = std::floor(x);
+    const int i0 = (static_cast<int>(floor_x) + resolution_) % resolution_, i1 = (i0 + 1) % resolution_;
+    const Packed* row = fiber_.data() + size_t(variant) * resolution_;
+    return blend(unpack(row[i0]), unpack(row[i1]), x - floor_x);
+}
+
+int FiberMaps::variant_of(uint32_t key, int64_t cell) const {
+    return static_cast<int>(mix64((uint64_t(key) << 32) ^ static_cast<uint64_t>(cell) ^ 0x9e3779b97f4a7c15ULL) %
+                            static_cast<uint64_t>(variants_));
+}
+
+FiberSample FiberMaps::lookup(float angle, float cell_position, uint32_t key, uint32_t cells_per_loop) const {
+    if (variants_ == 1) return sample(0, angle);
+    const float floor_c = std::floor(cell_position);
+    int64_t c0 = static_cast<int64_t>(floor_c), c1 = c0 + 1;
+    if (cells_per_loop > 0) {
+        const int64_t n = cells_per_loop;
+        c0 = ((c0 % n) + n) % n;
+        c1 = ((c1 % n) + n) % n;
+    }
+    // Smoothstep across the whole cell: C1 along the ply, no visible switch.
+    const float f = cell_position - floor_c, w = f * f * (3 - 2 * f);
+    const int a = variant_of(key, c0), b = variant_of(key, c1);
+    const FiberSample sa = sample(a, angle);
+    return a == b ? sa : blend(sa, sample(b, angle), w);
+}
+
+float FiberMaps::ply_shadowing(float azimuth) const {
+    const float x = wrap_angle(azimuth) * (resolution_ / (2 * kPi)) - 0.5f;
+    const float floor_x = std::floor(x);
+    const int i0 = (static_cast<int>(floor_x) + resolution_) % resolution_, i1 = (i0 + 1) % resolution_;
+    const float t = x - floor_x;
+    return (ply_[i0] * (1 - t) + ply_[i1] * t) * (1.0f / 65535.0f);
+}
+
+size_t FiberMaps::memory_bytes() const {
+    return sizeof(*this) + fiber_.capacity() * sizeof(Packed) + ply_.capacity() * sizeof(uint16_t);
+}
+
+}  // namespace purl
