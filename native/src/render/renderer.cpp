@@ -20,22 +20,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kTileSize = 16;
 constexpr int kRouletteDepth = 3;
+constexpr int kMaxPassThroughs = 64;  // yarns a ray may cross between plies before it gives up
 
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-float max_abs(Vec3 p) { return std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))); }
-
-// Distance to move a new ray's origin off the surface it leaves: float precision of the
-// position plus a small fraction of the yarn radius (Embree's curve hits are less exact).
-float offset_distance(const SurfaceHit& hit) {
-    return 64.0f * std::numeric_limits<float>::epsilon() * max_abs(hit.position) + 1e-2f * hit.radius;
-}
-
-Vec3 offset_origin(const SurfaceHit& hit, Vec3 direction) {
-    const float eps = offset_distance(hit);
-    return hit.position + hit.geometric_normal * (dot(hit.geometric_normal, direction) >= 0 ? eps : -eps);
 }
 
 }  // namespace
@@ -48,6 +36,7 @@ Renderer::Renderer(SceneDesc scene) : scene_(std::move(scene)), camera_(scene_.c
     const auto start = Clock::now();
     geometry_ = std::make_unique<EmbreeScene>(scene_);
     lights_ = std::make_unique<Lights>(scene_);
+    shader_ = std::make_unique<SurfaceShader>(scene_);
     uint32_t base = 0;
     for (const YarnSetDesc& y : scene_.yarns) {
         yarn_id_base_.push_back(base);
@@ -121,7 +110,8 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
         Vec3 radiance(0.0f), throughput(1.0f);
         float alpha = 1.0f;
         float previous_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that made `ray`
-        for (int depth = 0; depth < settings.max_depth; ++depth) {
+        int depth = 0, pass_throughs = 0;
+        while (depth < settings.max_depth) {
             SurfaceHit hit;
             ++totals.rays;
             const bool hit_surface = geometry_->intersect(ray, hit);
@@ -145,16 +135,26 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
                 }
                 break;
             }
-            ++totals.interactions;
-            const Vec3 wo = -ray.direction;
-            const ShadingPoint sp = make_shading_point(scene_, hit, wo);
-            if (depth == 0) {
+            if (depth == 0 && pass_throughs == 0) {
                 out.depth = std::min(out.depth, camera_.view_depth(hit.position));
-                normal_sum += sp.frame.n;
+                normal_sum += dot(hit.geometric_normal, ray.direction) < 0 ? hit.geometric_normal : -hit.geometric_normal;
                 if (s == 0 && hit.kind == SurfaceKind::Yarn)
                     out.yarn_id = float(yarn_id_base_[hit.object] +
                                         uint32_t(scene_.yarns[hit.object].curves.curve_ids[hit.curve]) + 1);
             }
+            const SurfaceInteraction si = shader_->shade(hit, ray);
+            if (si.pass_through) {
+                // Between the plies: the ray goes on through the yarn, no scattering.
+                if (++pass_throughs > kMaxPassThroughs) break;
+                const float advance = hit.t + si.continue_distance + ray_offset(hit.position, hit.radius);
+                ray.origin = ray.at(advance);
+                ray.tmin = 0.0f;
+                ray.tmax = std::max(0.0f, ray.tmax - advance);
+                continue;
+            }
+            ++totals.interactions;
+            const ShadingPoint& sp = si.point;
+            const Vec3 wo = -ray.direction;
             if (sp.holdout) {  // cut out of the image, and black to everything else
                 if (depth == 0) alpha = 0.0f;
                 break;
@@ -164,13 +164,14 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
             LightSample ls;
             const float u_light = rng.next_float();
             const Vec2 u_light2(rng.next_float(), rng.next_float());
-            if (lights_->sample(hit.position, u_light, u_light2, ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
-                const Vec3 f = sp.eval(wo, ls.wi);
+            if (lights_->sample(sp.position, u_light, u_light2, ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
+                const ShadingPoint::Exit exit = sp.leave(ls.wi);
+                const Vec3 f = sp.eval(wo, ls.wi, exit.chord);
                 const float cos_i = std::fabs(dot(ls.wi, sp.frame.n));
                 if (!is_black(f) && cos_i > 0) {
-                    const Vec3 origin = offset_origin(hit, ls.wi);
                     ++totals.rays;
-                    if (!geometry_->occluded(origin, ls.wi, 0.0f, ls.distance * (1 - 1e-4f))) {
+                    const float travelled = length(exit.origin - sp.position);
+                    if (!geometry_->occluded(exit.origin, ls.wi, 0.0f, (ls.distance - travelled) * (1 - 1e-4f))) {
                         const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, sp.pdf(wo, ls.wi));
                         radiance += throughput * f * ls.radiance * (cos_i * w / ls.pdf);
                     }
@@ -180,18 +181,20 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
             // Continue the path by sampling the BSDF.
             const float u_lobe = rng.next_float();
             const Vec2 u_dir(rng.next_float(), rng.next_float());
-            const std::optional<BsdfSample> bs = sp.sample(wo, u_lobe, u_dir);
+            ShadingPoint::Exit exit;
+            const std::optional<BsdfSample> bs = sp.sample(wo, u_lobe, u_dir, exit);
             if (!bs || !(bs->pdf > 0)) break;
             throughput *= bs->f * (std::fabs(dot(bs->wi, sp.frame.n)) / bs->pdf);
             if (is_black(throughput)) break;
             previous_pdf = bs->pdf;
-            if (depth + 1 >= kRouletteDepth) {
+            ++depth;
+            if (depth >= kRouletteDepth) {
                 const float survive = std::min(0.95f, max_component(throughput));
                 if (rng.next_float() >= survive) break;
                 throughput = throughput / survive;
             }
             ray = Ray();
-            ray.origin = offset_origin(hit, bs->wi);
+            ray.origin = exit.origin;
             ray.direction = bs->wi;
         }
         if (!is_finite(radiance) || radiance.x < 0 || radiance.y < 0 || radiance.z < 0) {

@@ -9,6 +9,7 @@
 #include "io/image_io.h"
 #include "render/camera.h"
 #include "render/lights.h"
+#include "render/shading.h"
 #include "scene/embree_scene.h"
 #include "scene/scene.h"
 
@@ -63,6 +64,7 @@ private:
     Camera camera_;
     std::unique_ptr<EmbreeScene> geometry_;
     std::unique_ptr<Lights> lights_;
+    std::unique_ptr<SurfaceShader> shader_;
     std::vector<uint32_t> yarn_id_base_;  // per yarn set: ids of earlier sets' curves
     double build_seconds_ = 0;
 };

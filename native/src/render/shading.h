@@ -1,40 +1,78 @@
-// Turns a surface hit into a scattering model in a local frame. The integrator only sees
-// eval / sample / pdf, whichever model a surface has.
+// Turns a surface hit into a scattering event: a model in a local frame plus the rule for
+// where rays leave. Yarns with the BYSDF go through the implicit geometry first (plies,
+// fibers, shadowing); a ray that meets no ply passes through the yarn.
 #pragma once
+#include <memory>
 #include <optional>
 #include <variant>
+#include <vector>
 
+#include "bsdf/bysdf.h"
 #include "bsdf/placeholder.h"
 #include "math/frame.h"
+#include "math/ray.h"
 #include "scene/embree_scene.h"
 #include "scene/scene.h"
+#include "yarn/curve_frames.h"
+#include "yarn/fiber_maps.h"
 
 namespace purl {
 
-using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf>;
+using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf>;
 
 struct ShadingPoint {
-    Frame frame;          // world <-> local; local +z is the shading normal, facing the viewer
-    SurfaceBsdf bsdf;
+    Frame frame;          // world <-> local; local +z is the shading normal
+    SurfaceBsdf bsdf = DiffuseBsdf{};
     bool holdout = false;
+    Vec3 position;        // where light scatters (on a ply, for implicit yarns)
 
-    Vec3 eval(Vec3 wo_world, Vec3 wi_world) const {
-        const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
-        return std::visit([&](const auto& b) { return b.eval(wo, wi); }, bsdf);
-    }
-    float pdf(Vec3 wo_world, Vec3 wi_world) const {
-        const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
-        return std::visit([&](const auto& b) { return b.pdf(wo, wi); }, bsdf);
-    }
-    std::optional<BsdfSample> sample(Vec3 wo_world, float u_lobe, Vec2 u) const {
-        const Vec3 wo = frame.to_local(wo_world);
-        auto s = std::visit([&](const auto& b) { return b.sample(wo, u_lobe, u); }, bsdf);
-        if (s) s->wi = frame.to_world(s->wi);
-        return s;
-    }
+    // Surfaces: rays leave from `position` nudged off the surface along `surface_normal`.
+    Vec3 surface_normal;
+    float offset = 0;
+    // Implicit yarns: rays leave through the tube wall, wherever they cross it.
+    const CurveFrames* tube = nullptr;
+    uint32_t segment = 0;
+    float t = 0;
+    float yarn_radius = 0;
+
+    struct Exit {
+        Vec3 origin;     // where a ray toward wi starts
+        float chord = 0; // path inside the yarn, in yarn radii (0 on surfaces)
+    };
+    Exit leave(Vec3 wi_world) const;
+
+    Vec3 eval(Vec3 wo_world, Vec3 wi_world, float chord) const;
+    float pdf(Vec3 wo_world, Vec3 wi_world) const;
+    // The sample's f is final: for a transmission through a yarn, attenuated along `exit`.
+    std::optional<BsdfSample> sample(Vec3 wo_world, float u_lobe, Vec2 u, Exit& exit) const;
 };
 
-// `wo` points from the hit back toward where the ray came from.
-ShadingPoint make_shading_point(const SceneDesc& scene, const SurfaceHit& hit, Vec3 wo);
+struct SurfaceInteraction {
+    bool pass_through = false;  // the ray met no ply: continue it `continue_distance` further
+    float continue_distance = 0;
+    ShadingPoint point;
+};
+
+// Per-scene shading data built once: curve frames and fiber maps for BYSDF yarn sets.
+class SurfaceShader {
+public:
+    explicit SurfaceShader(const SceneDesc& scene);
+    ~SurfaceShader();
+    SurfaceInteraction shade(const SurfaceHit& hit, const Ray& ray) const;
+    size_t memory_bytes() const;  // frames and maps
+
+private:
+    struct YarnSetData {
+        std::vector<CurveFrames> frames;   // per curve
+        std::unique_ptr<FiberMaps> maps;   // shared by the set's curves
+    };
+    const SceneDesc& scene_;
+    std::vector<YarnSetData> yarn_sets_;
+    std::vector<uint32_t> curve_key_base_;
+};
+
+// Distance to move a new ray's origin off the surface it leaves: float precision of the
+// position plus a small fraction of the yarn radius (Embree's curve hits are less exact).
+float ray_offset(Vec3 position, float yarn_radius);
 
 }  // namespace purl

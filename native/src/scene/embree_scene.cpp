@@ -128,6 +128,7 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit& hit) const {
         const std::vector<uint32_t>& offsets = scene_.yarns[ref.object].curves.segment_offsets;
         hit.curve = static_cast<uint32_t>(
             std::upper_bound(offsets.begin(), offsets.end(), rh.hit.primID) - offsets.begin() - 1);
+        hit.segment = rh.hit.primID - offsets[hit.curve];
         const Vec4* cp = scene_.yarns[ref.object].curves.control_points.data() + first;
         const Vec3 p[4] = {cp[0].xyz(), cp[1].xyz(), cp[2].xyz(), cp[3].xyz()};
         const Vec3 tangent = bspline_tangent(p, hit.u);

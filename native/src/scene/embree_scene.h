@@ -21,6 +21,7 @@ struct SurfaceHit {
     uint32_t object = 0;    // index into SceneDesc::yarns or SceneDesc::meshes
     uint32_t primitive = 0; // segment (first control point index) or triangle
     uint32_t curve = 0;     // yarn: curve index within its set
+    uint32_t segment = 0;   // yarn: segment index within its curve
     float u = 0.0f, v = 0.0f;
     Vec3 tangent;           // yarn: unit centre-line tangent at u
     float radius = 0.0f;    // yarn: tube radius at u

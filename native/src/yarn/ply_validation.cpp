@@ -62,7 +62,10 @@ void compare(MethodStats& m, const PlyHit& h, const Traced& r, int crossed_refer
     if (!h.hit && r.reference.hit) ++m.false_misses;
     if (!h.hit || !r.reference.hit) return;
     ++m.both_hit;
-    if (crossed_reference >= 0 && h.plies_crossed == crossed_reference) ++m.crossed_agree;
+    if (crossed_reference >= 0) {
+        ++m.crossed_checked;
+        if (h.plies_crossed == crossed_reference) ++m.crossed_agree;
+    }
     if (h.ply != r.reference.ply) return;
     ++m.same_ply;
     m.normal_error.push_back(degrees_between(h.normal, r.reference.normal));
@@ -130,8 +133,7 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
     const float psi = c.view_angle * kPi / 180.0f;
     PlyTraceOptions circular = elliptical_options;
     circular.cross_section = PlyCrossSection::circular;
-    PlyTraceOptions elliptical = elliptical_options;
-    elliptical.cross_section = PlyCrossSection::elliptical;
+    const PlyTraceOptions& elliptical = elliptical_options;
 
     ValidationResult result;
     Rng rng(c.seed, 0x5eed);

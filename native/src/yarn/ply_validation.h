@@ -37,7 +37,8 @@ struct MethodStats {
     int false_misses = 0;       // implicit miss, explicit hit
     int unconverged = 0;        // a ply fell back to the circular cross-section
     int non_finite = 0;         // any NaN or infinity in the output (must stay 0)
-    int crossed_agree = 0;      // both hit and N_i equals the explicit count of plies on the ray
+    int crossed_checked = 0;    // both hit and the explicit N_i was counted (every fourth ray)
+    int crossed_agree = 0;      // ... and N_i equals it
     std::vector<float> normal_error;   // degrees, rays where both hit the same ply
     std::vector<float> tangent_error;  // degrees, rays where both hit the same ply
     std::vector<float> distance_error;  // yarn radii along the ray, same rays
@@ -53,6 +54,8 @@ struct ValidationResult {
     MethodStats elliptical, circular;
 };
 
+// `elliptical_options` configures the method reported as `elliptical` (any cross-section kind);
+// `circular` always uses the circular cross-section.
 ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& elliptical_options = {});
 
 // An orthographic picture of one case for the Fig. 3-style maps: per pixel, whether each
