@@ -60,14 +60,16 @@ void print_stats(const RenderStats& s) {
     std::fprintf(stderr,
                  "build %.3f s, render %.3f s, %d threads\n"
                  "samples %llu (%.0f/s), rays %llu, mean path length %.2f, invalid samples %llu\n"
-                 "control points %zu, acceleration structure %.2f MB\n",
+                 "curves %zu, control points %zu, acceleration structure %.2f MB, frames and maps %.3f MB, "
+                 "peak resident memory %.1f MB\n",
                  s.build_seconds, s.render_seconds, s.threads, (unsigned long long)s.samples,
                  s.samples_per_second(), (unsigned long long)s.rays, s.mean_path_length,
-                 (unsigned long long)s.invalid_samples, s.control_points, s.acceleration_bytes / 1048576.0);
+                 (unsigned long long)s.invalid_samples, s.curves, s.control_points, s.acceleration_bytes / 1048576.0,
+                 s.shading_bytes / 1048576.0, s.peak_resident_bytes / 1048576.0);
 }
 
 int run_render(const std::string& scene_path, const std::string& output, const std::string& png,
-               int spp, int threads, long long seed, bool stats) {
+               int spp, int threads, long long seed, const std::string& model, bool stats) {
     const std::string ext = lowercase_extension(output);
     if (ext != ".exr" && ext != ".png")
         throw InputError(output, "", "output must end in .exr or .png");
@@ -75,6 +77,7 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (spp > 0) scene.render.spp = spp;
     if (threads > 0) scene.render.threads = threads;
     if (seed >= 0) scene.render.seed = static_cast<uint64_t>(seed);
+    if (!model.empty()) scene.render.model = parse_yarn_model(model, "--model");
 
     Renderer renderer(std::move(scene));
     RenderControl control;
@@ -143,6 +146,7 @@ int main(int argc, char** argv) {
     int spp = 0, threads = 0;
     long long seed = -1;
     bool stats = false;
+    std::string model;
     CLI::App* render = app.add_subcommand("render", "Render a JSON scene to EXR/PNG");
     render->add_option("scene", scene_path, "scene file (JSON)")->required();
     render->add_option("-o,--output", output, "output image (.exr: multilayer passes, .png: sRGB)")->required();
@@ -150,6 +154,8 @@ int main(int argc, char** argv) {
     render->add_option("--spp", spp, "samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
     render->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
     render->add_option("--seed", seed, "random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));
+    render->add_option("--model", model, "yarn model: bysdf (implicit plies), ply or fiber (explicit references)")
+        ->check(CLI::IsMember({"bysdf", "ply", "fiber"}));
     render->add_flag("--stats", stats, "print timing, ray and memory figures");
 
     std::string info_path;
@@ -169,7 +175,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     try {
-        if (*render) return run_render(scene_path, output, png, spp, threads, seed, stats);
+        if (*render) return run_render(scene_path, output, png, spp, threads, seed, model, stats);
         if (*info) return run_info(info_path);
         if (*generate) {
             const YarnCurves curves = generate_swatch(parse_swatch_kind(kind), swatch);

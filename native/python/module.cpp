@@ -113,7 +113,8 @@ std::string scene_text(const py::object& scene) {
     throw py::type_error("scene must be a JSON string or a dict");
 }
 
-SceneDesc build_scene(const py::object& scene, const py::object& arrays, const std::string& base_dir) {
+SceneDesc build_scene(const py::object& scene, const py::object& arrays, const std::string& base_dir,
+                      const std::optional<std::string>& model) {
     py::dict array_dict = arrays.is_none() ? py::dict() : arrays.cast<py::dict>();
     ExternalArrays external;
     external.yarns = [&](const std::string& name) {
@@ -125,7 +126,9 @@ SceneDesc build_scene(const py::object& scene, const py::object& arrays, const s
         return mesh_from_python(array_dict, name);
     };
     const std::string text = scene_text(scene);
-    return parse_scene_text(text, "<scene>", base_dir, &external);
+    SceneDesc desc = parse_scene_text(text, "<scene>", base_dir, &external);
+    if (model) desc.render.model = parse_yarn_model(*model, "model");
+    return desc;
 }
 
 py::dict passes_to_numpy(const RenderImage& image) {
@@ -149,6 +152,9 @@ py::dict stats_to_dict(const RenderStats& s) {
     d["invalid_samples"] = s.invalid_samples;
     d["acceleration_bytes"] = s.acceleration_bytes;
     d["control_points"] = s.control_points;
+    d["curves"] = s.curves;
+    d["shading_bytes"] = s.shading_bytes;
+    d["peak_resident_bytes"] = s.peak_resident_bytes;
     d["threads"] = s.threads;
     return d;
 }
@@ -156,8 +162,9 @@ py::dict stats_to_dict(const RenderStats& s) {
 // A render running on its own thread; Python polls it, waits for it or cancels it.
 class RenderJob {
 public:
-    RenderJob(const py::object& scene, const py::object& arrays, const std::string& base_dir)
-        : renderer_(std::make_unique<Renderer>(build_scene(scene, arrays, base_dir))) {}
+    RenderJob(const py::object& scene, const py::object& arrays, const std::string& base_dir,
+              const std::optional<std::string>& model)
+        : renderer_(std::make_unique<Renderer>(build_scene(scene, arrays, base_dir, model))) {}
     ~RenderJob() {
         control_.cancel = true;
         if (worker_.joinable()) {
@@ -277,8 +284,8 @@ PYBIND11_MODULE(purlcore, m) {
     });
 
     py::class_<RenderJob>(m, "RenderJob")
-        .def(py::init<const py::object&, const py::object&, const std::string&>(), py::arg("scene"),
-             py::arg("arrays") = py::none(), py::arg("base_dir") = "",
+        .def(py::init<const py::object&, const py::object&, const std::string&, const std::optional<std::string>&>(),
+             py::arg("scene"), py::arg("arrays") = py::none(), py::arg("base_dir") = "", py::arg("model") = py::none(),
              "Parse and build a scene (JSON text or dict, plus named numpy arrays).")
         .def("start", &RenderJob::start, py::arg("spp") = py::none(), py::arg("seed") = py::none(),
              py::arg("threads") = 0, "Start rendering on native threads; returns at once.")
@@ -297,8 +304,9 @@ PYBIND11_MODULE(purlcore, m) {
     m.def(
         "render",
         [](const py::object& scene, const py::object& arrays, const std::string& base_dir, std::optional<int> spp,
-           std::optional<long long> seed, int threads, const py::object& progress) {
-            RenderJob job(scene, arrays, base_dir);
+           std::optional<long long> seed, int threads, const py::object& progress,
+           const std::optional<std::string>& model) {
+            RenderJob job(scene, arrays, base_dir, model);
             job.start(spp, seed, threads);
             while (!job.wait(0.1)) {
                 if (!progress.is_none() && progress(job.progress()).equal(py::bool_(false))) job.cancel();
@@ -313,7 +321,7 @@ PYBIND11_MODULE(purlcore, m) {
         },
         py::arg("scene"), py::arg("arrays") = py::none(), py::arg("base_dir") = "", py::arg("spp") = py::none(),
         py::arg("seed") = py::none(), py::arg("threads") = 0, py::arg("progress") = py::none(),
-        "Render and return the passes; progress(fraction) returning False cancels.");
+        py::arg("model") = py::none(), "Render and return the passes; progress(fraction) returning False cancels.");
     m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder"}; });
     m.def("yarn_parameters", [] { return describe_parameters(yarn_description_params()); },
           "The yarn geometry parameters (plies, twist, fibers, migration) of the bysdf model.");

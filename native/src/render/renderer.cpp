@@ -5,11 +5,14 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
 
 #include "math/rng.h"
+#include "reference/explicit_models.h"
 #include "render/film.h"
 #include "render/shading.h"
 
@@ -22,6 +25,12 @@ constexpr int kTileSize = 16;
 constexpr int kRouletteDepth = 3;
 constexpr int kMaxPassThroughs = 64;  // yarns a ray may cross between plies before it gives up
 
+size_t peak_resident_bytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<size_t>(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
+}
+
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -32,7 +41,9 @@ struct Renderer::PathTotals {
     uint64_t rays = 0, interactions = 0, invalid = 0;
 };
 
-Renderer::Renderer(SceneDesc scene) : scene_(std::move(scene)), camera_(scene_.camera, scene_.film) {
+Renderer::Renderer(SceneDesc scene)
+    : scene_(scene.render.model == YarnModel::Bysdf ? std::move(scene) : make_explicit_scene(scene, scene.render.model)),
+      camera_(scene_.camera, scene_.film) {
     const auto start = Clock::now();
     geometry_ = std::make_unique<EmbreeScene>(scene_);
     lights_ = std::make_unique<Lights>(scene_);
@@ -93,7 +104,12 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     s.mean_path_length = s.samples ? double(interactions) / double(s.samples) : 0.0;
     s.invalid_samples = invalid;
     s.acceleration_bytes = geometry_->acceleration_bytes();
-    for (const YarnSetDesc& y : scene_.yarns) s.control_points += y.curves.point_count();
+    for (const YarnSetDesc& y : scene_.yarns) {
+        s.control_points += y.curves.point_count();
+        s.curves += y.curves.curve_count();
+    }
+    s.shading_bytes = shader_->memory_bytes();
+    s.peak_resident_bytes = peak_resident_bytes();
     s.threads = threads;
     return result;
 }

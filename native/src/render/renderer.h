@@ -32,8 +32,11 @@ struct RenderStats {
     uint64_t rays = 0;             // all rays traced: camera, bounce and shadow
     double mean_path_length = 0;   // surface interactions per camera sample
     uint64_t invalid_samples = 0;  // NaN/Inf samples caught and dropped
-    size_t acceleration_bytes = 0;
+    size_t acceleration_bytes = 0;  // Embree's BVH and primitive data
+    size_t shading_bytes = 0;       // curve frames and fiber maps
     size_t control_points = 0;
+    size_t curves = 0;
+    size_t peak_resident_bytes = 0; // of the whole process so far
     int threads = 0;
     double samples_per_second() const { return render_seconds > 0 ? samples / render_seconds : 0; }
 };

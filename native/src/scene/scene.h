@@ -29,12 +29,17 @@ struct FilmDesc {
     bool transparent = false;
 };
 
+// How yarns are represented: implicit plies and fibers (the BYSDF), or the explicit
+// references generated from the same curves and description (reference/explicit_models.h).
+enum class YarnModel { Bysdf, Ply, Fiber };
+
 struct RenderSettings {
     int spp = 64;
     uint64_t seed = 0;
     int max_depth = 8;
     int threads = 0;      // 0: all cores
     float clamp = 0.0f;   // 0: off
+    YarnModel model = YarnModel::Bysdf;
 };
 
 enum class LightType { Point, Spot, Sun, Area };

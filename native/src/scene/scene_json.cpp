@@ -56,6 +56,7 @@ void read_render(JsonObject o, RenderSettings& r) {
     r.max_depth = o.integer("max_depth", r.max_depth, 1, 1024);
     r.threads = o.integer("threads", 0, 0, 4096);
     r.clamp = o.number("clamp", 0.0f, 0.0f, kHuge);
+    r.model = parse_yarn_model(o.choice("model", "bysdf", {"bysdf", "ply", "fiber"}), o.file());
     o.finish();
 }
 
@@ -223,6 +224,13 @@ MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArra
 }
 
 }  // namespace
+
+YarnModel parse_yarn_model(const std::string& name, const std::string& source) {
+    if (name == "bysdf") return YarnModel::Bysdf;
+    if (name == "ply") return YarnModel::Ply;
+    if (name == "fiber") return YarnModel::Fiber;
+    throw InputError(source, "model", "must be bysdf, ply or fiber, got \"" + name + "\"");
+}
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,
                            const std::string& base_dir, const ExternalArrays* arrays) {

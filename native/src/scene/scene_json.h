@@ -13,6 +13,8 @@ struct ExternalArrays {
     std::function<MeshDesc(const std::string& name)> meshes;
 };
 
+YarnModel parse_yarn_model(const std::string& name, const std::string& source);
+
 SceneDesc load_scene_file(const std::string& path);
 // `source` names the scene in messages; relative paths resolve against `base_dir`.
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,

@@ -101,17 +101,20 @@ CurveFrames::CurveFrames(const CurveView& curve) : view_(curve) {
         view_.segment_count = 0;
         return;
     }
-    // Root normal toward the centroid of the control points: it turns with the yarn.
+    // Root normal toward the centroid of the segment ends: it turns with the yarn (and does
+    // not depend on whether the segments share their control points).
     Vec3 centroid(0.0f), lo(1e30f), hi(-1e30f);
     double radius_sum = 0;
-    for (uint32_t i = 0; i < curve.point_count; ++i) {
-        centroid += curve.points[i].xyz();
-        lo = min(lo, curve.points[i].xyz());
-        hi = max(hi, curve.points[i].xyz());
-        radius_sum += curve.points[i].w;
+    for (uint32_t k = 0; k <= segments; ++k) {
+        const SegmentGeometry g = k < segments ? segment_geometry(curve.segment_points(k), 0)
+                                               : segment_geometry(curve.segment_points(segments - 1), 1);
+        centroid += g.position;
+        lo = min(lo, g.position);
+        hi = max(hi, g.position);
+        radius_sum += g.radius;
     }
-    centroid = centroid / static_cast<float>(curve.point_count);
-    reference_radius_ = static_cast<float>(radius_sum / curve.point_count);
+    centroid = centroid / static_cast<float>(segments + 1);
+    reference_radius_ = static_cast<float>(radius_sum / (segments + 1));
     const Vec4* first = curve.segment_points(0);
     const Vec3 root = segment_geometry(first, 0).position, root_tangent = start_tangent(first);
     Vec3 r = centroid - root;

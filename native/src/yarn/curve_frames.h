@@ -73,7 +73,7 @@ public:
     uint32_t segment_count() const { return view_.segment_count; }
     bool closed() const { return view_.closed; }
     float total_length() const { return knots_.empty() ? 0.0f : knots_.back().w; }  // m
-    // Mean radius of the control points: the length unit of twist rates on this curve, m.
+    // Mean radius at the segment ends: the length unit of twist rates on this curve, m.
     float reference_radius() const { return reference_radius_; }
     const CurveView& view() const { return view_; }
     size_t memory_bytes() const { return sizeof(*this) + knots_.capacity() * sizeof(Vec4); }

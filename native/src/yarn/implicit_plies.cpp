@@ -72,6 +72,7 @@ struct Candidate {
     PlyCut cut;
     float enter = 0, leave = 0;  // ray distances from the tube entry, m
     float approach = 0;          // ray distance of the closest approach to the ply centre-line, m
+    bool fixed = false;          // from the circular fallback: `enter` is final
 };
 
 // The ply surface point, frame and coordinates for a hit at `point`.
@@ -201,21 +202,33 @@ void scan_interval(const CurveFrames& frames, const YarnDescription& d, const Ya
             out.converged = false;
         return;
     }
-    const bool same_sign = (fa < 0) == (fb < 0);
-    const bool toward_zero = fa < 0 ? (a.offset.slope > 0 && b.offset.slope < 0) : (a.offset.slope < 0 && b.offset.slope > 0);
-    if (!same_sign || !toward_zero || depth >= 3 || out.count >= 8) return;
-    // The cubic Hermite's turning point, from its derivative's roots (fallback: the middle).
+    if ((fa < 0) != (fb < 0) || depth >= 3 || out.count >= 8) return;
+    // Ends of one sign: where the cubic Hermite through both ends' values and slopes turns
+    // back toward zero (within a quarter of the ends' size), there may be a pair of crossings.
     const double h = b.cut.g - a.cut.g;
     const double p = a.offset.slope * h, q = b.offset.slope * h;  // end slopes per unit of the interval
-    const double c2 = 3 * (2 * (fa - fb) + p + q), c1 = 2 * (3 * (fb - fa) - 2 * p - q), c0 = p;
-    double u = 0.5;
-    const double disc = c1 * c1 - 4 * c2 * c0;
-    if (std::fabs(c2) > 1e-12 && disc >= 0) {
-        const double r1 = (-c1 - std::sqrt(disc)) / (2 * c2), r2 = (-c1 + std::sqrt(disc)) / (2 * c2);
-        u = r1 > 0 && r1 < 1 ? r1 : (r2 > 0 && r2 < 1 ? r2 : 0.5);
-    } else if (std::fabs(c1) > 1e-12 && -c0 / c1 > 0 && -c0 / c1 < 1) {
-        u = -c0 / c1;
+    const double k3 = 2 * (fa - fb) + p + q, k2 = 3 * (fb - fa) - 2 * p - q;  // f(u) = k3 u^3 + k2 u^2 + p u + fa
+    const double c2 = 3 * k3, c1 = 2 * k2, c0 = p;
+    double roots[2];
+    int n_roots = 0;
+    if (std::fabs(c2) > 1e-12) {
+        const double disc = c1 * c1 - 4 * c2 * c0;
+        if (disc >= 0) {
+            roots[n_roots++] = (-c1 - std::sqrt(disc)) / (2 * c2);
+            roots[n_roots++] = (-c1 + std::sqrt(disc)) / (2 * c2);
+        }
+    } else if (std::fabs(c1) > 1e-12) {
+        roots[n_roots++] = -c0 / c1;
     }
+    const double sign = fa < 0 ? -1.0 : 1.0, margin = 0.25 * std::min(std::fabs(fa), std::fabs(fb));
+    double u = -1;
+    for (int i = 0; i < n_roots; ++i) {
+        const double r = roots[i];
+        if (!(r > 0 && r < 1)) continue;
+        const double value = ((k3 * r + k2) * r + p) * r + fa;
+        if (value * sign < margin) u = r;  // turns back to (or past) zero
+    }
+    if (u < 0) return;
     u = clamp(static_cast<float>(u), 0.1f, 0.9f);
     const Sample m = sample_at(frames, d, tw, ply, plane, a.cut.g + h * u, out);
     scan_interval(frames, d, tw, ply, plane, a, m, depth + 1, options, tolerance, out);
@@ -236,46 +249,60 @@ Pierces pierce(const CurveFrames& frames, const YarnDescription& d, const YarnTw
     return out;
 }
 
-PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
-                      const YarnTubeHit& hit, const CentrelineProjection& at) {
+// The circular method for one ply: the ray projected into the perpendicular cross-section at
+// the tube hit, against the ply's circle there. `enter` is the matching distance along the 3D
+// ray; false when the projected ray misses the circle.
+bool circular_cut_hit(const YarnTubeHit& hit, const CentrelineProjection& at, const PlyCentre& centre, float& enter,
+                      Vec3& normal) {
     const Vec3 tangent = at.point.tangent;
     Vec3 flat = hit.direction - tangent * dot(hit.direction, tangent);
     const float flat_length = length(flat);
-    if (flat_length < 1e-4f) return pass_through(frames, hit, at.segment, at.t);
+    if (flat_length < 1e-4f) return false;
     flat = flat / flat_length;
-    Vec3 x0 = hit.point - tangent * dot(hit.point - at.point.position, tangent);
+    const Vec3 x0 = hit.point - tangent * dot(hit.point - at.point.position, tangent);
+    const Vec3 w = x0 - centre.position;
+    const float b = dot(w, flat), c = dot(w, w) - sqr(centre.radius);
+    const float disc = b * b - c;
+    if (disc < 0) return false;
+    const float root = std::sqrt(disc);
+    if (-b + root <= 0) return false;
+    const float along = std::max(-b - root, 0.0f);
+    enter = along / flat_length;
+    normal = normalize(w + flat * along);
+    return true;
+}
 
+PlyCut cut_at_hit(const CentrelineProjection& at, const YarnDescription& d, const YarnTwist& tw, int ply) {
+    PlyCut cut;
+    cut.g = at.segment + double(at.t);
+    cut.segment = at.segment;
+    cut.t = at.t;
+    cut.yarn = at.point;
+    cut.centre = ply_centre(at.point, d, tw, ply);
+    return cut;
+}
+
+PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
+                      const YarnTubeHit& hit, const CentrelineProjection& at) {
     Candidate best;
     bool found = false;
     int crossed = 0;
-    Vec3 best_point, best_normal;
+    Vec3 best_normal;
     for (int ply = 0; ply < d.plies(); ++ply) {
-        PlyCut cut;
-        cut.g = at.segment + double(at.t);
-        cut.segment = at.segment;
-        cut.t = at.t;
-        cut.yarn = at.point;
-        cut.centre = ply_centre(at.point, d, tw, ply);
-        // 2D ray against the ply's circle in the perpendicular cross-section.
-        const Vec3 w = x0 - cut.centre.position;
-        const float b = dot(w, flat), c = dot(w, w) - sqr(cut.centre.radius);
-        const float disc = b * b - c;
-        if (disc < 0) continue;
-        const float root = std::sqrt(disc);
-        const float enter = -b - root, leave = -b + root;
-        if (leave <= 0) continue;
+        const PlyCut cut = cut_at_hit(at, d, tw, ply);
+        float enter;
+        Vec3 normal;
+        if (!circular_cut_hit(hit, at, cut.centre, enter, normal)) continue;
         ++crossed;
-        const float along = std::max(enter, 0.0f);
-        if (found && along / flat_length >= best.enter) continue;
+        if (found && enter >= best.enter) continue;
         found = true;
         best.ply = ply;
         best.cut = cut;
-        best.enter = along / flat_length;  // the same progress on the 3D ray
-        best_normal = normalize(w + flat * along);
+        best.enter = enter;
+        best_normal = normal;
     }
     if (!found) return pass_through(frames, hit, at.segment, at.t);
-    const Vec3 point = hit.point + hit.direction * best.enter;
-    PlyHit h = finish_hit(best, point, tw, hit);
+    PlyHit h = finish_hit(best, hit.point + hit.direction * best.enter, tw, hit);
     // The circular method's normal is the 2D one, in the frozen cross-section.
     h.normal = best_normal;
     const Vec3 side = cross(h.tangent, h.outward);
@@ -406,7 +433,9 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     }
     // A ply's closest approaches to the ray are about a turn apart: sub-intervals of at most
     // scan_turn radians of ply turn hold at most one each.
-    plane.samples = std::min(32, 1 + static_cast<int>((s_hi - s_lo) * std::fabs(tw.ply_rate) / options.scan_turn));
+    const float per_interval = std::min(options.scan_turn / std::max(std::fabs(tw.ply_rate), 1e-30f),
+                                        options.scan_length * radius);
+    plane.samples = std::min(32, 1 + static_cast<int>((s_hi - s_lo) / per_interval));
     const float half = s_hi - s_lo;  // bound on refinement steps, m
     int evaluations = 0;
 
@@ -425,7 +454,10 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
         if (!p.converged) {
             // Fallback: this ply as the circular method sees it, at the tube hit's cross-section.
             converged = false;
-            if (p.count == 0) p.cuts[p.count++] = cut_at(frames, d, tw, ply, g0);
+            Candidate cand{ply, cut_at_hit(at, d, tw, ply)};
+            Vec3 normal;
+            cand.fixed = circular_cut_hit(hit, at, cand.cut.centre, cand.enter, normal);
+            if (cand.fixed) candidates[count++] = cand;
         }
         for (int k = 0; k < p.count; ++k) {
             Candidate cand{ply, p.cuts[k]};
@@ -438,7 +470,8 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     }
     for (int i = 0; i < count; ++i) {
         Candidate& cand = candidates[i];
-        if (!enter_ply(frames, d, tw, hit, plane.ply_plane, tolerance, options.refinements, half, cand, evaluations))
+        if (!cand.fixed &&
+            !enter_ply(frames, d, tw, hit, plane.ply_plane, tolerance, options.refinements, half, cand, evaluations))
             continue;
         crossed_mask |= 1u << cand.ply;
         if (best < 0 || cand.enter < candidates[best].enter) best = i;

@@ -31,9 +31,11 @@ struct PlyTraceOptions {
     int max_iterations = 12;  // Newton steps per piercing before the fallback
     float tolerance = 1e-4f;  // yarn radii: a ply centre moving less than this has converged
     int refinements = 3;      // closest-point corrections of each candidate ply hit
-    // Radians of ply turn per scanned sub-interval of the yarn stretch the ray crosses; near
-    // side views the stretch is short and one interval (one Newton solve per ply) suffices.
+    // The yarn stretch the ray crosses is scanned in sub-intervals of at most scan_turn radians
+    // of ply turn and scan_length yarn radii (a closest approach hides in each at most once,
+    // or shows in the slopes at its ends); near side views one interval suffices.
     float scan_turn = 1.5f;
+    float scan_length = 2.0f;
 };
 
 // The renderer's yarn-tube hit: the ray and where it entered the tube.

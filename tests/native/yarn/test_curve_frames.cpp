@@ -85,21 +85,23 @@ TEST(CurveFrames, PlanarLoopHasNoHolonomyAndExactLength) {
 }
 
 TEST(CurveFrames, NonPlanarLoopIsContinuousAcrossTheSeam) {
-    // A saddle-shaped loop: its frame picks up holonomy, which must be spread out.
-    const auto p = loop(40, [](float a) { return Vec3(2 * std::cos(a), 2 * std::sin(a), 0.8f * std::sin(2 * a)); });
+    // A trefoil knot: its frame picks up about 2.2 rad of holonomy, which must be spread out.
+    const auto p = loop(60, [](float a) {
+        return Vec3(std::sin(a) + 2 * std::sin(2 * a), std::cos(a) - 2 * std::cos(2 * a), -std::sin(3 * a));
+    });
     const CurveFrames f(CurveView::chain(p.data(), static_cast<uint32_t>(p.size()), true));
-    const CurvePoint end = f.evaluate(39, 1.0f), start = f.evaluate(0, 0.0f);
+    const CurvePoint end = f.evaluate(59, 1.0f), start = f.evaluate(0, 0.0f);
     EXPECT_NEAR(length(end.position - start.position), 0, 1e-5f);
     EXPECT_NEAR(dot(end.normal, start.normal), 1, 1e-6f);
     EXPECT_NEAR(end.arc_length, f.total_length(), 1e-5f);
     EXPECT_NEAR(start.arc_length, 0, 1e-6f);
     // Continuous at every interior boundary too, and the spread twist is uniform and small.
     float first_rate = twist_rate(f, 3, 0.5f);
-    for (uint32_t s = 1; s < 40; ++s) {
+    for (uint32_t s = 1; s < 60; ++s) {
         EXPECT_NEAR(dot(f.evaluate(s - 1, 1).normal, f.evaluate(s, 0).normal), 1, 1e-6f);
-        EXPECT_NEAR(twist_rate(f, s, 0.5f), first_rate, 0.02f);
+        EXPECT_NEAR(twist_rate(f, s, 0.5f), first_rate, 0.01f);
     }
-    EXPECT_GT(std::fabs(first_rate), 1e-3f);  // the loop does have holonomy to spread
+    EXPECT_GT(std::fabs(first_rate), 0.05f);  // the loop does have holonomy to spread
 }
 
 TEST(CurveFrames, FramesFollowARigidMotion) {
