@@ -33,7 +33,8 @@ class PurlRenderEngine(bpy.types.RenderEngine):
     bl_use_shading_nodes_custom = False  # keep Blender's shader nodes for mesh materials
     bl_use_eevee_viewport = True      # material preview in the viewport uses EEVEE
 
-    last_export = None  # the Export of the last render, kept for scripts and tests
+    last_export = None          # the Export of the last render, for scripts and tests
+    keep_last_arrays = False    # keep its (possibly large) arrays too; tests turn this on
 
     def render(self, depsgraph):
         try:
@@ -76,6 +77,8 @@ class PurlRenderEngine(bpy.types.RenderEngine):
                 self.end_result(result)
         finally:
             shutil.rmtree(temp_dir, ignore_errors=True)
+            if type(self).last_export is not None and not self.keep_last_arrays:
+                type(self).last_export.arrays = {}  # don't hold the yarn arrays between renders
 
     def _result_size(self, scene):
         render = scene.render

@@ -27,6 +27,13 @@ def parameters(model):
     return tables().get(model, [])
 
 
+PLY_COLOR_PREFIX = "ply_color_"  # ply_color_count and ply_color_1..N: drawn together in the UI
+
+
+def is_ply_color(parameter):
+    return parameter["name"].startswith(PLY_COLOR_PREFIX)
+
+
 def value_for_export(parameter, value):
     """A property value as the scene format wants it: a number or a list of numbers."""
     if parameter["components"] == 1:

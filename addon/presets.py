@@ -3,7 +3,7 @@
 A preset file holds the scene format's material object, so the CLI reads the same file:
     {"name": "...", "description": "...", "source": "where the numbers come from",
      "material": {"model": "placeholder", "color": [0.8, 0.2, 0.1]},
-     "blender": {"mode": "AUTO", "ply_colors": [[r, g, b], ...], "color_attribute": ""}}
+     "blender": {"mode": "AUTO", "color_attribute": ""}}
 "blender" holds the settings the native material does not read yet; it is optional.
 """
 import json
@@ -88,7 +88,9 @@ def apply_preset(material, preset):
             warnings.append("unknown parameter '{}' ignored".format(key))
             continue
         try:
-            if parameter["components"] == 1:
+            if properties.is_count(parameter):
+                value = int(round(float(value)))
+            elif parameter["components"] == 1:
                 value = float(value)
             else:
                 value = [float(v) for v in value]
@@ -108,14 +110,6 @@ def apply_preset(material, preset):
             settings.mode = extra["mode"]
         else:
             warnings.append("unknown mode '{}' ignored".format(extra["mode"]))
-    colors = extra.get("ply_colors")
-    if colors:
-        settings.use_ply_colors = True
-        settings.ply_color_count = min(len(colors), properties.MAX_PLY_COLORS)
-        for index, color in enumerate(colors[:properties.MAX_PLY_COLORS]):
-            setattr(settings, "ply_color_{}".format(index + 1), [float(c) for c in color[:3]])
-    elif "ply_colors" in extra:
-        settings.use_ply_colors = False
     if "color_attribute" in extra:
         settings.color_attribute = str(extra["color_attribute"])
     return warnings
@@ -131,8 +125,7 @@ def preset_from_material(material, name, description=""):
     return {"name": name, "description": description,
             "source": "saved from Blender material '{}'".format(material.name),
             "material": result_material,
-            "blender": {"mode": settings.mode, "ply_colors": properties.ply_colors(settings),
-                        "color_attribute": settings.color_attribute}}
+            "blender": {"mode": settings.mode, "color_attribute": settings.color_attribute}}
 
 
 def save_preset(material, name, folder=None):

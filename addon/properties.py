@@ -8,7 +8,6 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorPro
 
 from . import parameters
 
-MAX_PLY_COLORS = 12
 BLENDER_FLOAT_LIMIT = 3.0e38  # FloatProperty rejects infinite bounds
 
 MODE_ITEMS = [
@@ -37,12 +36,21 @@ def _tooltip(parameter):
     return "{} [{}]".format(doc, unit) if unit and unit not in _UNIT_SUBTYPES else doc
 
 
+def is_count(parameter):
+    """Native parameters are all floats; a scalar "..._count" with whole bounds is shown as an integer."""
+    return (parameter["name"].endswith("_count") and int(parameter["components"]) == 1
+            and float(parameter["min"]).is_integer() and float(parameter["max"]).is_integer())
+
+
 def make_property(parameter):
     """A bpy property for one native parameter declaration."""
     low, high = _bounds(parameter)
     name = parameter["name"].replace("_", " ").capitalize()
     components = int(parameter["components"])
     default = parameter["default"]
+    if is_count(parameter):
+        return IntProperty(name=name, description=_tooltip(parameter), min=int(low), max=int(high),
+                           default=int(round(float(default))))
     subtype, unit = _UNIT_SUBTYPES.get(parameter.get("unit") or "", ("NONE", "NONE"))
     common = dict(name=name, description=_tooltip(parameter), min=low, max=high,
                   soft_min=low, soft_max=high, unit=unit)
@@ -91,12 +99,6 @@ class PurlSceneSettings(bpy.types.PropertyGroup):
                          default=0.0, min=0.0)
 
 
-def _ply_color(index):
-    return FloatVectorProperty(name="Ply {}".format(index + 1), size=3, subtype="COLOR",
-                               default=(0.8, 0.8, 0.8), min=0.0, max=1.0,
-                               description="Colour of ply {}".format(index + 1))
-
-
 _classes = []
 
 
@@ -113,16 +115,10 @@ def register():
                                      items=_model_enum_items, get=_get_model_index, set=_set_model_index),
         "mode": EnumProperty(name="Scale", items=MODE_ITEMS, default="AUTO",
                              description="Which scale of the multi-scale model shades the yarn"),
-        "use_ply_colors": BoolProperty(name="Ply Colours", default=False,
-                                       description="Give each ply its own colour"),
-        "ply_color_count": IntProperty(name="Plies", default=3, min=1, max=MAX_PLY_COLORS,
-                                       description="How many ply colours are used, in ply order"),
         "color_attribute": StringProperty(
             name="Colour Attribute",
             description="Per-curve colour attribute of the yarn objects (empty: none)"),
     }
-    for index in range(MAX_PLY_COLORS):
-        annotations["ply_color_{}".format(index + 1)] = _ply_color(index)
     for model, cls in zip(models, model_classes):
         annotations["params_" + model] = PointerProperty(type=cls)
     material_class = type("PURL_PG_material", (bpy.types.PropertyGroup,), {"__annotations__": annotations})
@@ -140,9 +136,3 @@ def unregister():
         bpy.utils.unregister_class(cls)
     _classes.clear()
 
-
-def ply_colors(settings):
-    """The ply colours in use, as lists of 3 floats (empty when ply colours are off)."""
-    if not settings.use_ply_colors:
-        return []
-    return [list(getattr(settings, "ply_color_{}".format(i + 1))) for i in range(settings.ply_color_count)]

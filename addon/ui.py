@@ -1,7 +1,7 @@
 """Panels shown when Purl is the render engine: render settings, yarn material, lights, world."""
 import bpy
 
-from . import native, parameters, properties
+from . import native, parameters
 from .compat import uses_nodes
 from .engine import PurlRenderEngine
 from .presets import PURL_MT_presets, PURL_OT_preset_save
@@ -74,7 +74,12 @@ class PURL_PT_material(PurlPanel, bpy.types.Panel):
             return
         column = layout.column()
         for parameter in parameters.parameters(settings.model):
-            column.prop(values, parameter["name"])
+            if not parameters.is_ply_color(parameter):
+                column.prop(values, parameter["name"])
+        layout.prop(settings, "color_attribute", icon="GROUP_VCOL")
+
+
+COUNT = parameters.PLY_COLOR_PREFIX + "count"
 
 
 class PURL_PT_material_plies(PurlPanel, bpy.types.Panel):
@@ -85,21 +90,23 @@ class PURL_PT_material_plies(PurlPanel, bpy.types.Panel):
 
     @classmethod
     def poll(cls, context):
-        return PURL_PT_material.poll(context) and native.purlcore() is not None
-
-    def draw_header(self, context):
-        self.layout.prop(context.material.purl, "use_ply_colors", text="")
+        if not PURL_PT_material.poll(context):
+            return False
+        model = context.material.purl.model
+        return any(p["name"] == COUNT for p in parameters.parameters(model))
 
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
         settings = context.material.purl
-        layout.active = settings.use_ply_colors
-        layout.prop(settings, "ply_color_count")
+        values = getattr(settings, "params_" + settings.model)
+        layout.prop(values, COUNT)
+        names = {p["name"] for p in parameters.parameters(settings.model)}
         grid = layout.grid_flow(columns=3, even_columns=True, align=True)
-        for index in range(min(settings.ply_color_count, properties.MAX_PLY_COLORS)):
-            grid.prop(settings, "ply_color_{}".format(index + 1), text="")
-        layout.prop(settings, "color_attribute", icon="GROUP_VCOL")
+        for index in range(1, int(getattr(values, COUNT)) + 1):
+            name = parameters.PLY_COLOR_PREFIX + str(index)
+            if name in names:
+                grid.prop(values, name, text="")
 
 
 class PURL_PT_light(PurlPanel, bpy.types.Panel):

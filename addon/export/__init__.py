@@ -48,6 +48,16 @@ def render_settings(scene):
             "clamp": float(settings.clamp)}
 
 
+def _guarded(problems, ob, export, *args):
+    """Runs one object's export; an unexpected failure skips that object with a warning."""
+    try:
+        return export(*args)
+    except (RuntimeError, ValueError, TypeError, AttributeError, IndexError, KeyError,
+            FloatingPointError, MemoryError) as error:
+        problems.warning(ob.name, "could not be exported ({}: {}); skipped".format(type(error).__name__, error))
+        return []
+
+
 def collect_yarns(depsgraph, problems):
     """Every yarn-like object of the depsgraph as checked YarnCurves (world space)."""
     render_mode = _is_render_mode(depsgraph)
@@ -56,13 +66,13 @@ def collect_yarns(depsgraph, problems):
         ob = instance.object
         matrix = instance.matrix_world.copy()  # the iterator reuses its matrix
         if instance.show_particles and len(ob.particle_systems) > 0:
-            found += yarns.particle_hair(ob, matrix, render_mode)
+            found += _guarded(problems, ob, yarns.particle_hair, ob, matrix, render_mode)
         if not instance.show_self:
             continue
         if ob.type == "CURVES":
-            found += yarns.hair_curves(ob, matrix)
+            found += _guarded(problems, ob, yarns.hair_curves, ob, matrix)
         elif ob.type == "CURVE":
-            found += yarns.curve_object(ob, matrix, problems)
+            found += _guarded(problems, ob, yarns.curve_object, ob, matrix, problems)
     return [y for y in (yarns.checked(y, problems) for y in found) if y is not None]
 
 
@@ -102,15 +112,15 @@ def export_scene(depsgraph, size=None, temp_dir=None):
             if instance.is_instance and original.type == "CURVE":
                 continue  # a curve's bevel tube: the curve is exported as yarn instead
             holdout = _is_holdout(original, view_layer)
-            for mesh in meshes.mesh_object(ob, instance.matrix_world.copy(), holdout):
+            for mesh in _guarded(problems, ob, meshes.mesh_object, ob, instance.matrix_world.copy(), holdout):
                 key = "mesh{}".format(len(mesh_sets))
                 arrays[key] = mesh.arrays()
                 mesh_sets.append({"name": mesh.name, "arrays": key, "color": list(mesh.color),
                                   "holdout": mesh.holdout})
                 stats["triangles"] += len(mesh.triangles)
         elif ob.type == "LIGHT":
-            light = lights.export_light(ob, instance.matrix_world.copy(), problems)
-            if light is not None:
+            light = _guarded(problems, ob, lights.export_light, ob, instance.matrix_world.copy(), problems)
+            if light:
                 light_list.append(light)
     stats["lights"] = len(light_list)
 

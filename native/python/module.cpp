@@ -322,6 +322,24 @@ PYBIND11_MODULE(purlcore, m) {
         py::arg("scene"), py::arg("arrays") = py::none(), py::arg("base_dir") = "", py::arg("spp") = py::none(),
         py::arg("seed") = py::none(), py::arg("threads") = 0, py::arg("progress") = py::none(),
         py::arg("model") = py::none(), "Render and return the passes; progress(fraction) returning False cancels.");
+    m.def(
+        "project_points",
+        [](const py::object& scene, const FloatArray& points, const py::object& arrays, const std::string& base_dir) {
+            if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must have shape (N, 3)");
+            const SceneDesc desc = build_scene(scene, arrays, base_dir, std::nullopt);
+            const Camera camera(desc.camera, desc.film);
+            py::array_t<float> out({points.shape(0), py::ssize_t(2)});
+            for (py::ssize_t i = 0; i < points.shape(0); ++i) {
+                float x = NAN, y = NAN;
+                if (!camera.project({points.at(i, 0), points.at(i, 1), points.at(i, 2)}, x, y)) x = y = NAN;
+                out.mutable_at(i, 0) = x;
+                out.mutable_at(i, 1) = y;
+            }
+            return out;
+        },
+        py::arg("scene"), py::arg("points"), py::arg("arrays") = py::none(), py::arg("base_dir") = "",
+        "Film positions (x right, y down from the top-left corner, in pixels) of world points as the scene's camera "
+        "sees them; NaN for points behind the camera.");
     m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder"}; });
     m.def("yarn_parameters", [] { return describe_parameters(yarn_description_params()); },
           "The yarn geometry parameters (plies, twist, fibers, migration) of the bysdf model.");

@@ -224,3 +224,17 @@ def test_tapered_tips_are_raised_to_a_small_positive_radius(purl, scene):
     add_curve(scene, "Taper", [("POLY", [(0, 0, 0), (1, 0, 0), (2, 0, 0)], {"radius": [1.0, 1.0, 0.0]})])
     (arrays,) = yarn_arrays(export(purl), "Taper")
     assert arrays["radii"].min() > 0.0
+
+
+def test_an_object_whose_export_fails_is_skipped_with_a_warning(purl, scene, monkeypatch):
+    yarns = import_module(purl.__name__ + ".export.yarns")
+
+    def broken_reader(ob, matrix, problems):
+        raise RuntimeError("unexpected data")
+
+    monkeypatch.setattr(yarns, "curve_object", broken_reader)
+    add_curve(scene, "Odd", [("POLY", [(0, 0, 0), (1, 0, 0)], {})])
+    add_plane(scene)
+    exported = export(purl)
+    assert exported.scene["yarns"] == [] and len(exported.scene["meshes"]) == 1
+    assert any("Odd" in m and "unexpected data" in m for m in exported.problems.messages("WARNING"))

@@ -37,15 +37,22 @@ def test_every_native_parameter_is_a_property_with_its_range_default_and_doc(cor
             assert parameter["doc"] in prop.description
 
 
-def test_exported_material_carries_the_settings(purl, core, material):
-    parameter = core.material_parameters("placeholder")[0]
-    group = material.purl.params_placeholder
-    value = parameter["max"] if parameter["components"] == 1 else [parameter["max"]] * parameter["components"]
-    setattr(group, parameter["name"], value)
+@pytest.mark.parametrize("model", ["placeholder", "bysdf"])
+def test_exported_material_carries_the_settings(purl, core, material, model):
+    if model not in core.material_models():
+        pytest.skip("purlcore has no '{}' model".format(model))
+    material.purl.model = model
+    group = getattr(material.purl, "params_" + model)
+    for parameter in core.material_parameters(model):
+        high = parameter["max"]
+        setattr(group, parameter["name"], int(high) if isinstance(getattr(group, parameter["name"]), int)
+                else high if parameter["components"] == 1 else [high] * parameter["components"])
     exported = import_module(purl.__name__ + ".export").export_scene(depsgraph())
     (yarn,) = exported.scene["yarns"]
-    assert yarn["material"]["model"] == "placeholder"
-    assert yarn["material"][parameter["name"]] == pytest.approx(value)
+    assert yarn["material"]["model"] == model
+    for parameter in core.material_parameters(model):
+        expected = parameter["max"] if parameter["components"] == 1 else [parameter["max"]] * parameter["components"]
+        assert yarn["material"][parameter["name"]] == pytest.approx(expected, rel=1e-6), parameter["name"]
 
 
 def test_preset_round_trip(purl, core, material, tmp_path):
@@ -55,8 +62,7 @@ def test_preset_round_trip(purl, core, material, tmp_path):
     group = getattr(settings, "params_" + settings.model)
     before = {name: np.array(getattr(group, name), dtype=float).tolist() for name in names}
     settings.mode = "FAR"
-    settings.use_ply_colors, settings.ply_color_count = True, 2
-    settings.ply_color_2 = (0.1, 0.2, 0.3)
+    settings.color_attribute = "yarn_colour"
     path = presets.save_preset(material, "Round trip", folder=str(tmp_path))
     with open(path) as f:
         saved = json.load(f)
@@ -64,13 +70,12 @@ def test_preset_round_trip(purl, core, material, tmp_path):
     for name in names:  # change everything, then load the preset back
         prop = group.bl_rna.properties[name]
         setattr(group, name, prop.hard_min if prop.array_length == 0 else [prop.hard_min] * prop.array_length)
-    settings.mode, settings.use_ply_colors = "NEAR", False
+    settings.mode, settings.color_attribute = "NEAR", ""
     assert presets.apply_preset(material, presets.read_preset(path)) == []
     after = {name: np.array(getattr(group, name), dtype=float).tolist() for name in names}
     for name in names:
         assert after[name] == pytest.approx(before[name]), name
-    assert settings.mode == "FAR" and settings.use_ply_colors and settings.ply_color_count == 2
-    assert list(settings.ply_color_2) == pytest.approx([0.1, 0.2, 0.3])
+    assert settings.mode == "FAR" and settings.color_attribute == "yarn_colour"
 
 
 def test_presets_menu_lists_shipped_and_user_presets(purl, core, tmp_path, monkeypatch):

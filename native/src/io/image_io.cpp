@@ -99,6 +99,9 @@ void write_png(const std::string& path, const RenderImage& image) {
 }
 
 ImageRGB read_image_rgb(const std::string& path) {
+    // A FIFO or device could block or never end: only regular files.
+    std::error_code ec;
+    if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) throw InputError(path, "", "not a regular file");
     auto in = ImageInput::open(path);
     if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
     const ImageSpec& spec = in->spec();
@@ -107,8 +110,11 @@ ImageRGB read_image_rgb(const std::string& path) {
     if (size_t(spec.width) * spec.height > (size_t(1) << 28))
         throw InputError(path, "", "image is too large (" + std::to_string(spec.width) + " x " +
                                        std::to_string(spec.height) + ")");
-    std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, all.data()))
+    // Only the channels kept are decoded: a file declaring thousands of channels must not
+    // make this allocate for all of them.
+    const int kept = std::min(spec.nchannels, 3);
+    std::vector<float> all(size_t(spec.width) * spec.height * kept);
+    if (!in->read_image(0, 0, 0, kept, TypeDesc::FLOAT, all.data()))
         throw InputError(path, "", "cannot decode image: " + in->geterror());
     ImageRGB image;
     image.width = spec.width;
@@ -116,7 +122,7 @@ ImageRGB read_image_rgb(const std::string& path) {
     image.rgb.resize(size_t(spec.width) * spec.height * 3);
     for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i)
         for (int c = 0; c < 3; ++c) {
-            const float v = all[i * spec.nchannels + std::min(c, spec.nchannels - 1)];
+            const float v = all[i * kept + std::min(c, kept - 1)];
             if (!std::isfinite(v)) throw InputError(path, "pixel " + std::to_string(i), "value is not finite");
             image.rgb[i * 3 + c] = v;
         }

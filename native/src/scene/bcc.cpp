@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -13,6 +14,12 @@ namespace {
 constexpr uint64_t kHeaderBytes = 64;
 constexpr uint64_t kCountBytes = 4;   // int32 per curve
 constexpr uint64_t kPointBytes = 12;  // float3 per point
+// At most 2^28 points (a 3 GB file): converted curves index control points with uint32 and
+// Catmull-Rom/Bezier become 4 points per segment, so this keeps every index below 2^31.
+constexpr uint64_t kMaxPoints = uint64_t(1) << 28;
+// Points are read in batches of this many, so memory follows the data read and checked,
+// never what a header claims (a sparse file of several GB costs one batch).
+constexpr uint64_t kBatchPoints = uint64_t(1) << 16;
 
 // Little-endian field readers, independent of the host's byte order.
 uint32_t read_u32(const unsigned char* b) {
@@ -109,14 +116,20 @@ BccHeader parse_header(const std::string& path, const unsigned char* h, uint64_t
                              std::to_string(expected) +
                              (expected > file_size ? " (truncated)" : " (extra bytes at the end)"));
     if (header.curve_count == 0) throw InputError(path, at_byte(8), "file holds no curves");
-    // YarnCurves indexes points with uint32.
-    if (header.point_count > UINT32_MAX)
-        throw InputError(path, at_byte(16), "more than 2^32 points are not supported");
+    if (header.point_count > kMaxPoints)
+        throw InputError(path, at_byte(16), "header declares " + std::to_string(header.point_count) +
+                                                " points; at most " + std::to_string(kMaxPoints) +
+                                                " (2^28) per file are supported");
     return header;
 }
 
 // Opens at the end to learn the size, then rewinds; the size decides what may be allocated.
 std::ifstream open_for_reading(const std::string& path, uint64_t& size) {
+    // A FIFO would block and a device has no size to check: only regular files.
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status)) throw InputError(path, "", "cannot open file");
+    if (!std::filesystem::is_regular_file(status)) throw InputError(path, "", "not a regular file");
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw InputError(path, "", "cannot open file");
     const std::streamoff end = in.tellg();
@@ -157,24 +170,27 @@ BccCurves read_bcc(const std::string& path) {
     BccCurves out;
     out.header = parse_header(path, h, size);  // size now matches the counts exactly
 
-    // One read for the whole body (glove.bcc: 0.7 MB in about 1 ms).
-    std::vector<unsigned char> body(size - kHeaderBytes);
-    if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(body.size())))
-        throw InputError(path, at_byte(kHeaderBytes), "cannot read the curve data");
-
     const BccHeader& hd = out.header;
-    out.points.resize(hd.point_count);
-    out.curve_offsets.reserve(hd.curve_count + 1);
-    out.closed.reserve(hd.curve_count);
-    uint64_t pos = 0, used = 0;  // byte position in body, points consumed
+    // Reserve only what a small file would need; larger files grow as their data checks out.
+    out.points.reserve(std::min(hd.point_count, kBatchPoints));
+    out.curve_offsets.reserve(std::min(hd.curve_count, kBatchPoints) + 1);
+    out.closed.reserve(std::min(hd.curve_count, kBatchPoints));
+    std::vector<unsigned char> batch;
+    uint64_t pos = 0, used = 0;  // byte position after the header, points consumed
+    auto read_bytes = [&](unsigned char* dst, uint64_t n) {
+        if (!in.read(reinterpret_cast<char*>(dst), static_cast<std::streamsize>(n)))
+            throw InputError(path, at_byte(kHeaderBytes + pos), "cannot read the curve data (file changed while reading?)");
+    };
     // Counts are checked against what remains before any point of the curve is read.
     for (uint64_t c = 0; c < hd.curve_count; ++c) {
         const std::string place = "curve " + std::to_string(c) + " (" + at_byte(kHeaderBytes + pos) + ")";
-        if (pos + kCountBytes > body.size())
+        if (pos + kCountBytes > size - kHeaderBytes)
             throw InputError(path, place, "curve data ends before the header's " +
                                               std::to_string(hd.curve_count) + " curves");
+        unsigned char count[kCountBytes];
+        read_bytes(count, kCountBytes);
         // Widened before negating, so INT32_MIN cannot overflow.
-        const int64_t signed_n = static_cast<int32_t>(read_u32(&body[pos]));
+        const int64_t signed_n = static_cast<int32_t>(read_u32(count));
         pos += kCountBytes;
         const bool closed = signed_n < 0;
         const uint64_t n = static_cast<uint64_t>(closed ? -signed_n : signed_n);
@@ -188,14 +204,19 @@ BccCurves read_bcc(const std::string& path) {
                                  " curve cannot have " + std::to_string(n) + " points (needs at least " +
                                  std::to_string(min_points(hd.basis, closed)) +
                                  (hd.basis == CurveBasis::Bezier ? (closed ? ", a multiple of 3" : ", 3k+1") : "") + ")");
-        for (uint64_t i = 0; i < n; ++i, pos += kPointBytes) {
-            const unsigned char* b = &body[pos];
-            const Vec3 p(read_f32(b), read_f32(b + 4), read_f32(b + 8));
-            if (!is_finite(p))
-                throw InputError(path, "curve " + std::to_string(c) + ", point " + std::to_string(i) + " (" +
-                                           at_byte(kHeaderBytes + pos) + ")",
-                                 "coordinate is not finite");
-            out.points[used + i] = p;
+        for (uint64_t i = 0; i < n;) {
+            const uint64_t count_now = std::min(n - i, kBatchPoints);
+            batch.resize(count_now * kPointBytes);
+            read_bytes(batch.data(), batch.size());
+            for (uint64_t k = 0; k < count_now; ++k, ++i, pos += kPointBytes) {
+                const unsigned char* b = &batch[k * kPointBytes];
+                const Vec3 p(read_f32(b), read_f32(b + 4), read_f32(b + 8));
+                if (!is_finite(p))
+                    throw InputError(path, "curve " + std::to_string(c) + ", point " + std::to_string(i) + " (" +
+                                               at_byte(kHeaderBytes + pos) + ")",
+                                     "coordinate is not finite");
+                out.points.push_back(p);
+            }
         }
         used += n;
         out.curve_offsets.push_back(static_cast<uint32_t>(used));

@@ -1,10 +1,22 @@
 #include "scene/curves.h"
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "scene/input_error.h"
 
 namespace purl {
+namespace {
+
+// Six significant digits: std::to_string shows 1e-9 as 0.000000 and 1e30 as 31 digits.
+std::string short_number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+}  // namespace
 
 void validate_curves(const YarnCurves& curves, const std::string& source) {
     const size_t nc = curves.curve_count();
@@ -14,6 +26,10 @@ void validate_curves(const YarnCurves& curves, const std::string& source) {
         throw InputError(source, "curves", "curve offsets do not end at the point count");
     if (curves.segment_offsets.size() != nc + 1 || curves.segment_offsets.back() != curves.segment_count())
         throw InputError(source, "curves", "segment offsets do not match the segments");
+    // Radii are checked against the set's extent below, after every position is known finite.
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    float max_radius = 0.0f;
+    size_t max_radius_curve = 0;
     for (size_t c = 0; c < nc; ++c) {
         const uint32_t begin = curves.curve_offsets[c], end = curves.curve_offsets[c + 1];
         const std::string place = "curve " + std::to_string(c);
@@ -33,7 +49,25 @@ void validate_curves(const YarnCurves& curves, const std::string& source) {
             if (!(p.w > 0.0f) || !std::isfinite(p.w))
                 throw InputError(source, where, "radius must be positive and finite, got " +
                                                     std::to_string(p.w));
+            lo = min(lo, p.xyz());
+            hi = max(hi, p.xyz());
+            if (p.w > max_radius) {
+                max_radius = p.w;
+                max_radius_curve = c;
+            }
         }
+    }
+    // A yarn thicker than the whole set of centre-lines is a unit mistake (a radius in mm on
+    // curves in m), and radii like 1e30 leave Embree's bounds and hit distances meaningless.
+    // Compared in double: the extent of finite floats can overflow a float.
+    if (nc > 0) {
+        const double dx = double(hi.x) - lo.x, dy = double(hi.y) - lo.y, dz = double(hi.z) - lo.z;
+        const double extent = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (max_radius > extent)
+            throw InputError(source, "curve " + std::to_string(max_radius_curve),
+                             "radius " + short_number(max_radius) +
+                                 " is larger than the whole yarn set (bounding-box diagonal " +
+                                 short_number(extent) + "); check the radius and its units");
     }
 }
 

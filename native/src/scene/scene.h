@@ -19,7 +19,7 @@ struct CameraDesc {
     float sensor_width_mm = 36.0f;
     float sensor_height_mm = 24.0f;
     SensorFit sensor_fit = SensorFit::Auto;
-    float shift_x = 0.0f, shift_y = 0.0f;  // in units of the larger image side
+    float shift_x = 0.0f, shift_y = 0.0f;  // in units of the fitted image side
     float clip_start = 0.1f, clip_end = 1000.0f;  // m
 };
 

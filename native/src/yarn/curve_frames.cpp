@@ -179,18 +179,24 @@ CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
     const Vec4* cp = view_.segment_points(segment);
     CurvePoint c = evaluate_centreline(segment, t);
 
-    // Carry both boundary normals onto this tangent and turn between them with t.
+    // Carry both boundary normals onto this tangent and turn between them with t. Between
+    // rotation-minimizing knots they differ by a small angle, so a normalised blend is exact
+    // to third order; a large one (only on degenerate input) takes the exact turn.
     const Vec4 ka = knots_[segment], kb = knots_[segment + 1];
-    const Vec3 na = orthonormalize(rotate_minimal(ka.xyz(), start_tangent(cp), c.tangent), c.tangent);
-    const Vec3 nb = orthonormalize(rotate_minimal(kb.xyz(), end_tangent(cp), c.tangent), c.tangent);
-    const float turn = std::atan2(dot(cross(na, nb), c.tangent), dot(na, nb));
-    const float angle = turn * clamp(t, 0.0f, 1.0f);
-    c.normal = orthonormalize(na * std::cos(angle) + cross(c.tangent, na) * std::sin(angle), c.tangent);
+    const Vec3 start = (cp[2].xyz() - cp[0].xyz()) * 0.5f, end = (cp[3].xyz() - cp[1].xyz()) * 0.5f;
+    const float v0 = length(start), v1 = length(end);
+    const Vec3 ta = v0 > 1e-20f ? start / v0 : start_tangent(cp), tb = v1 > 1e-20f ? end / v1 : end_tangent(cp);
+    const Vec3 na = rotate_minimal(ka.xyz(), ta, c.tangent), nb = rotate_minimal(kb.xyz(), tb, c.tangent);
+    const float w = clamp(t, 0.0f, 1.0f);
+    if (dot(na, nb) > 0.5f) {
+        c.normal = orthonormalize(na + (nb - na) * w, c.tangent);
+    } else {
+        const float turn = std::atan2(dot(cross(na, nb), c.tangent), dot(na, nb));
+        c.normal = orthonormalize(na * std::cos(turn * w) + cross(c.tangent, na) * std::sin(turn * w), c.tangent);
+    }
     c.binormal = cross(c.tangent, c.normal);
 
     // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.
-    const float v0 = length((cp[2].xyz() - cp[0].xyz()) * 0.5f);
-    const float v1 = length((cp[3].xyz() - cp[1].xyz()) * 0.5f);
     if (t < 0) {
         c.arc_length = ka.w + t * v0;
     } else if (t > 1) {

@@ -93,10 +93,12 @@ Vec3 ExplicitPlies::strand_point(int strand, double g, float* radius) const {
     return p.position;
 }
 
-ExplicitPlies::Nearest ExplicitPlies::lower_bound(int strand_index, Vec3 x, float cutoff) const {
+ExplicitPlies::Nearest ExplicitPlies::lower_bound(int strand_index, Vec3 x, float cutoff,
+                                                  const std::vector<uint32_t>& active) const {
     const Strand& strand = strands_[strand_index];
     Nearest best{cutoff, 0};
-    for (const Chunk& c : strand.chunks) {
+    for (uint32_t index : active) {
+        const Chunk& c = strand.chunks[index];
         if (length(x - c.centre) - c.extent - strand.deviation - c.max_radius >= best.bound) continue;
         for (uint32_t i = c.begin; i < c.end; ++i) {
             const Sample &a = strand.samples[i], &b = strand.samples[i + 1];
@@ -124,7 +126,7 @@ float ExplicitPlies::exact_distance(int strand, Vec3 x, double& g) const {
         if (fp <= 0.1 * dot(d1, d1)) fp = dot(d1, d1);  // away from a minimum: gradient step
         const double step = std::max(-0.25, std::min(0.25, -f / std::max(fp, 1e-30)));
         g = wrap(g + step);
-        if (std::fabs(step) < 1e-7) break;
+        if (std::fabs(step) < 1e-5) break;  // 1e-5 of a segment: float noise is near 1e-6
     }
     const Vec3 p = strand_point(strand, g, &radius);
     return length(x - p) - radius;
@@ -137,6 +139,20 @@ ExplicitHit ExplicitPlies::trace(int first, int last, Vec3 origin, Vec3 directio
     const int count = last - first + 1;
     std::vector<double> hint(count, -1.0);
     std::vector<float> bound(count);
+    // Only chunks near the ray's span can matter: list them once per ray. Farther ones are
+    // still bounded by the distance to the span, so the far bound stays valid.
+    std::vector<std::vector<uint32_t>> active(count);
+    const float span = std::max(tmax - tmin, 0.0f);
+    const Vec3 a = origin + direction * tmin;
+    for (int k = 0; k < count; ++k) {
+        const Strand& strand = strands_[first + k];
+        for (uint32_t i = 0; i < strand.chunks.size(); ++i) {
+            const Chunk& c = strand.chunks[i];
+            const float along = clamp(dot(c.centre - a, direction), 0.0f, span);
+            if (length(a + direction * along - c.centre) - c.extent - strand.deviation - c.max_radius < 0.5f * unit_)
+                active[k].push_back(i);
+        }
+    }
     float lambda = tmin, previous = tmin;
     for (int step = 0; step < kMaxSteps; ++step) {
         result.steps = step + 1;
@@ -147,7 +163,9 @@ ExplicitHit ExplicitPlies::trace(int first, int last, Vec3 origin, Vec3 directio
         float closest_distance = 1e30f;
         Vec3 closest_normal;
         for (int k = 0; k < count; ++k) {
-            const Nearest nb = lower_bound(first + k, x, 1e30f);
+            // Chunks off the ray's span are at least half a radius away from it.
+            Nearest nb = lower_bound(first + k, x, 1e30f, active[k]);
+            nb.bound = std::min(nb.bound, 0.5f * unit_);
             bound[k] = nb.bound;
             if (nb.bound >= near) {
                 step_length = std::min(step_length, nb.bound);

@@ -64,7 +64,7 @@ private:
     };
 
     Vec3 strand_point(int strand, double g, float* radius) const;
-    Nearest lower_bound(int strand, Vec3 x, float cutoff) const;
+    Nearest lower_bound(int strand, Vec3 x, float cutoff, const std::vector<uint32_t>& active_chunks) const;
     // Exact distance to the tube surface (negative inside) from Newton on the curve parameter.
     float exact_distance(int strand, Vec3 x, double& g) const;
     ExplicitHit trace(int first_strand, int last_strand, Vec3 origin, Vec3 direction, float tmin, float tmax) const;

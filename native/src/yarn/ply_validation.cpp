@@ -155,9 +155,9 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
             ++result.reference_unresolved;
             continue;
         }
-        // The explicit N_i needs one trace per ply: only every fourth ray pays for it.
+        // The explicit N_i needs one trace per ply: only every k-th ray pays for it.
         int crossed = -1;
-        if (made % 4 == 0) {
+        if (c.count_crossings_every > 0 && made % c.count_crossings_every == 0) {
             crossed = 0;
             const float entry = r.reference.hit ? r.reference.distance - 1e-3f : 0.0f;
             for (int p = 0; p < c.description.plies(); ++p)

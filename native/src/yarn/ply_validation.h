@@ -26,6 +26,7 @@ struct ValidationCase {
     float curvature_radius = 0;  // yarn radii; <= 0 for a straight yarn
     int rays = 1000;
     uint64_t seed = 1;
+    int count_crossings_every = 4;  // explicit N_i (one trace per ply) on every k-th ray; 0: never
 };
 
 struct MethodStats {

@@ -12,6 +12,8 @@ YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, con
     YarnShadingPoint sp;
     sp.converged = hit.converged;
     sp.iterations = hit.iterations;
+    sp.segment = hit.segment;
+    sp.t = hit.t;
     sp.exit_distance = hit.exit_distance;
     if (!hit.hit) {
         sp.position = hit.point;

@@ -1,0 +1,177 @@
+// One implicit yarn query (plies + fiber maps) against tracing explicit plies for the same rays.
+//
+//   BM_Implicit        trace_yarn_hit: elliptical plies + fiber frame + G_p/G_f (given the tube hit)
+//   BM_ImplicitPlies   trace_plies only (elliptical)
+//   BM_Circular        trace_plies with the circular cross-section (the older method)
+//   BM_EmbreeTube      Embree ray against the yarn's round B-spline curve (what precedes BM_Implicit)
+//   BM_EmbreePlies     Embree ray against every ply as its own round B-spline curve (ply-based model)
+//   BM_ExactPlies      our exact explicit reference (sphere tracing; accuracy first)
+// Arguments: plies, view angle (degrees). Rays (random side, offset, position) are prepared
+// outside the timed loop from the explicit yarn tube, as Embree would report them.
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "math/rng.h"
+#include "yarn/explicit_plies.h"
+#include "yarn/ply_validation.h"
+#include "yarn/yarn_shading_point.h"
+
+namespace purl {
+namespace {
+
+constexpr int kRays = 512;
+
+// A straight yarn of radius 1 and its plies, Embree scenes of both, and prepared rays.
+struct Setup {
+    YarnDescription description;
+    std::vector<Vec4> points = validation_curve(0.0f);
+    CurveFrames frames{CurveView::chain(points.data(), static_cast<uint32_t>(points.size()), false)};
+    FiberMaps maps;
+    ExplicitPlies plies;
+    std::vector<YarnTubeHit> hits;
+    RTCDevice device = nullptr;
+    RTCScene tube_scene = nullptr, ply_scene = nullptr;
+
+    Setup(int ply_count, float view_degrees)
+        : description(touching_plies(ply_count)), maps(description), plies(frames, description) {
+        device = rtcNewDevice(nullptr);
+        tube_scene = curve_scene({points.begin(), points.end()});
+        // Each ply as a B-spline through samples of its helix every 0.25 R (what a ply-based
+        // renderer stores; the small shrinkage of a B-spline through its points does not matter
+        // for timing).
+        const YarnTwist tw = yarn_twist(frames, description);
+        std::vector<std::vector<Vec4>> ply_points(ply_count);
+        for (uint32_t s = 0; s < frames.segment_count(); ++s)
+            for (int j = 0; j < 4; ++j) {
+                const CurvePoint c = frames.evaluate(s, j / 4.0f);
+                for (int p = 0; p < ply_count; ++p) {
+                    const PlyCentre pc = ply_centre(c, description, tw, p);
+                    ply_points[p].emplace_back(pc.position, pc.radius);
+                }
+            }
+        ply_scene = rtcNewScene(device);
+        for (const auto& pts : ply_points) add_curve(ply_scene, pts);
+        rtcCommitScene(ply_scene);
+
+        Rng rng(11, static_cast<uint64_t>(ply_count * 100 + view_degrees));
+        const float psi = view_degrees * kPi / 180;
+        while (static_cast<int>(hits.size()) < kRays) {
+            const float z = 30 + 18 * rng.next_float(), side = 2 * kPi * rng.next_float();
+            const float offset = 2 * rng.next_float() - 1;
+            const Vec3 toward(std::cos(side), std::sin(side), 0), across(-std::sin(side), std::cos(side), 0);
+            const Vec3 dir = normalize(toward * -std::cos(psi) + Vec3(0, 0, std::sin(psi)));
+            const Vec3 origin = Vec3(0, 0, z) + across * offset - dir * 30.0f;
+            const ExplicitHit tube = plies.intersect_tube(origin, dir, 0, 60);
+            if (tube.hit) hits.push_back({origin, dir, tube.point, tube.segment, tube.t});
+        }
+    }
+    ~Setup() {
+        rtcReleaseScene(tube_scene);
+        rtcReleaseScene(ply_scene);
+        rtcReleaseDevice(device);
+    }
+    RTCScene curve_scene(const std::vector<Vec4>& pts) {
+        RTCScene scene = rtcNewScene(device);
+        add_curve(scene, pts);
+        rtcCommitScene(scene);
+        return scene;
+    }
+    void add_curve(RTCScene scene, const std::vector<Vec4>& pts) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+        auto* v = static_cast<Vec4*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, sizeof(Vec4), pts.size()));
+        std::copy(pts.begin(), pts.end(), v);
+        auto* index = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), pts.size() - 3));
+        for (size_t i = 0; i + 3 < pts.size(); ++i) index[i] = static_cast<unsigned>(i);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(scene, g);
+        rtcReleaseGeometry(g);
+    }
+    float embree_hit(RTCScene scene, const YarnTubeHit& h) const {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRayHit rh{};
+        rh.ray.org_x = h.origin.x, rh.ray.org_y = h.origin.y, rh.ray.org_z = h.origin.z;
+        rh.ray.dir_x = h.direction.x, rh.ray.dir_y = h.direction.y, rh.ray.dir_z = h.direction.z;
+        rh.ray.tnear = 0;
+        rh.ray.tfar = 1e30f;
+        rh.ray.mask = ~0u;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &context, &rh);
+        return rh.ray.tfar;
+    }
+};
+
+Setup& setup(int plies, int view) {
+    static std::map<std::pair<int, int>, std::unique_ptr<Setup>> cache;
+    auto& s = cache[{plies, view}];
+    if (!s) s = std::make_unique<Setup>(plies, static_cast<float>(view));
+    return *s;
+}
+
+void BM_Implicit(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) {
+        const YarnShadingPoint sp = trace_yarn_hit(s.frames, s.description, s.maps, s.hits[i++ % kRays], 3);
+        benchmark::DoNotOptimize(sp);
+    }
+}
+
+void BM_ImplicitPlies(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(trace_plies(s.frames, s.description, s.hits[i++ % kRays]));
+}
+
+void BM_Circular(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    PlyTraceOptions o;
+    o.cross_section = PlyCrossSection::circular;
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(trace_plies(s.frames, s.description, s.hits[i++ % kRays], o));
+}
+
+void BM_EmbreeTube(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(s.embree_hit(s.tube_scene, s.hits[i++ % kRays]));
+}
+
+void BM_EmbreePlies(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(s.embree_hit(s.ply_scene, s.hits[i++ % kRays]));
+}
+
+void BM_ExactPlies(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) {
+        const YarnTubeHit& h = s.hits[i++ % kRays];
+        benchmark::DoNotOptimize(s.plies.intersect_plies(h.origin, h.direction, 0, 60));
+    }
+}
+
+void arguments(benchmark::internal::Benchmark* b) {
+    for (int plies : {2, 3, 5, 12})
+        for (int view : {0, 60}) b->Args({plies, view});
+}
+
+BENCHMARK(BM_Implicit)->Apply(arguments);
+BENCHMARK(BM_ImplicitPlies)->Apply(arguments);
+BENCHMARK(BM_Circular)->Apply(arguments);
+BENCHMARK(BM_EmbreeTube)->Apply(arguments);
+BENCHMARK(BM_EmbreePlies)->Apply(arguments);
+BENCHMARK(BM_ExactPlies)->Apply(arguments);
+
+}  // namespace
+}  // namespace purl
+
+BENCHMARK_MAIN();
