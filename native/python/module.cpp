@@ -324,9 +324,9 @@ PYBIND11_MODULE(purlcore, m) {
         py::arg("model") = py::none(), "Render and return the passes; progress(fraction) returning False cancels.");
     m.def(
         "project_points",
-        [](const py::object& scene, const FloatArray& points, const py::object& arrays, const std::string& base_dir) {
+        [](const py::object& scene, const FloatArray& points) {
             if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must have shape (N, 3)");
-            const SceneDesc desc = build_scene(scene, arrays, base_dir, std::nullopt);
+            const SceneDesc desc = parse_view_text(scene_text(scene), "<scene>");
             const Camera camera(desc.camera, desc.film);
             py::array_t<float> out({points.shape(0), py::ssize_t(2)});
             for (py::ssize_t i = 0; i < points.shape(0); ++i) {
@@ -337,7 +337,7 @@ PYBIND11_MODULE(purlcore, m) {
             }
             return out;
         },
-        py::arg("scene"), py::arg("points"), py::arg("arrays") = py::none(), py::arg("base_dir") = "",
+        py::arg("scene"), py::arg("points"),
         "Film positions (x right, y down from the top-left corner, in pixels) of world points as the scene's camera "
         "sees them; NaN for points behind the camera.");
     m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder"}; });

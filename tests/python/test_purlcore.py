@@ -152,3 +152,15 @@ def test_material_parameters_carry_units_and_ranges():
         assert p["doc"]
     with pytest.raises(ValueError):
         purlcore.material_parameters("no-such-model")
+
+
+def test_project_points_follows_the_camera():
+    s = {"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "lens": 50},
+         "film": {"width": 640, "height": 480}, "meshes": [{"arrays": "not-needed"}]}
+    xy = purlcore.project_points(s, np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 9]], np.float32))
+    # 50 mm over a 36 mm sensor: 1 m at 5 m is 640 * 50 / 36 / 5 px from the centre.
+    offset = 640 * 50 / 36 / 5
+    assert np.allclose(xy[0], [320, 240], atol=1e-3)
+    assert np.allclose(xy[1], [320 + offset, 240], atol=1e-3)
+    assert np.allclose(xy[2], [320, 240 - offset], atol=1e-3)
+    assert np.all(np.isnan(xy[3])), "behind the camera"

@@ -58,8 +58,13 @@ struct TruncatedNormal {
 
     double cdf_lo() const { return standard_normal_cdf((lo - mean) / sigma); }
     double cdf_hi() const { return standard_normal_cdf((hi - mean) / sigma); }
-    // Probability mass of the untruncated normal inside [lo, hi].
-    double mass() const { return cdf_hi() - cdf_lo(); }
+    // Probability mass of the untruncated normal inside [lo, hi], as 1 minus both tails (a
+    // tail beyond 9 sigma is below 1e-18 and skipped: most narrow lobes need no erfc at all).
+    double mass() const {
+        const double a = (lo - mean) / sigma, b = (hi - mean) / sigma;
+        const double below = a < -9 ? 0.0 : standard_normal_cdf(a), above = b > 9 ? 0.0 : standard_normal_cdf(-b);
+        return 1 - below - above;
+    }
     double pdf(double x) const {
         if (x < lo || x > hi) return 0.0;
         const double m = mass();

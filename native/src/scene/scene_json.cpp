@@ -268,6 +268,17 @@ SceneDesc parse_scene_text(const std::string& text, const std::string& source,
     return scene;
 }
 
+SceneDesc parse_view_text(const std::string& text, const std::string& source) {
+    const json root = json::parse(text, nullptr, false);
+    if (root.is_discarded() || !root.is_object()) throw InputError(source, "", "not a valid JSON object");
+    SceneDesc scene;
+    scene.source = source;
+    JsonObject o(root, "", source);
+    read_camera(o.object("camera"), scene.camera);
+    if (o.has("film")) read_film(o.object("film"), scene.film);
+    return scene;
+}
+
 SceneDesc load_scene_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path, "", "cannot open file");

@@ -13,6 +13,9 @@ struct ExternalArrays {
     std::function<MeshDesc(const std::string& name)> meshes;
 };
 
+// Only the camera and film of a scene (everything else is left unread and unchecked).
+SceneDesc parse_view_text(const std::string& text, const std::string& source);
+
 YarnModel parse_yarn_model(const std::string& name, const std::string& source);
 
 SceneDesc load_scene_file(const std::string& path);

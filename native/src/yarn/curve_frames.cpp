@@ -159,6 +159,17 @@ CurveFrames::CurveFrames(const CurveView& curve) : view_(curve) {
             knots_[k] = Vec4(orthonormalize(n, axis), knots_[k].w);
         }
     }
+
+    // Per segment, the turn about the start tangent that takes the start normal to the end
+    // normal carried back along the segment: evaluate() spreads it linearly.
+    twist_.resize(segments);
+    for (uint32_t k = 0; k < segments; ++k) {
+        const Vec4* cp = curve.segment_points(k);
+        const Vec3 ta = start_tangent(cp);
+        const Vec3 na = orthonormalize(knots_[k].xyz(), ta);
+        const Vec3 back = orthonormalize(rotate_minimal(knots_[k + 1].xyz(), end_tangent(cp), ta), ta);
+        twist_[k] = std::atan2(dot(cross(na, back), ta), dot(na, back));
+    }
 }
 
 CurvePoint CurveFrames::evaluate_centreline(uint32_t segment, float t) const {
@@ -179,21 +190,24 @@ CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
     const Vec4* cp = view_.segment_points(segment);
     CurvePoint c = evaluate_centreline(segment, t);
 
-    // Carry both boundary normals onto this tangent and turn between them with t. Between
-    // rotation-minimizing knots they differ by a small angle, so a normalised blend is exact
-    // to third order; a large one (only on degenerate input) takes the exact turn.
+    // The start normal, turned about the start tangent by the segment's share of twist, then
+    // carried onto this tangent by the smallest rotation (exactly the end normal at t = 1).
     const Vec4 ka = knots_[segment], kb = knots_[segment + 1];
     const Vec3 start = (cp[2].xyz() - cp[0].xyz()) * 0.5f, end = (cp[3].xyz() - cp[1].xyz()) * 0.5f;
     const float v0 = length(start), v1 = length(end);
-    const Vec3 ta = v0 > 1e-20f ? start / v0 : start_tangent(cp), tb = v1 > 1e-20f ? end / v1 : end_tangent(cp);
-    const Vec3 na = rotate_minimal(ka.xyz(), ta, c.tangent), nb = rotate_minimal(kb.xyz(), tb, c.tangent);
-    const float w = clamp(t, 0.0f, 1.0f);
-    if (dot(na, nb) > 0.5f) {
-        c.normal = orthonormalize(na + (nb - na) * w, c.tangent);
+    const Vec3 ta = v0 > 1e-20f ? start / v0 : start_tangent(cp);
+    const float turn = twist_[segment] * clamp(t, 0.0f, 1.0f);
+    float cos_turn, sin_turn;
+    if (std::fabs(turn) < 0.25f) {  // series to x^5: error below 1e-7 here
+        const float x2 = turn * turn;
+        cos_turn = 1 - x2 * (0.5f - x2 * (1.0f / 24));
+        sin_turn = turn * (1 - x2 * (1.0f / 6 - x2 * (1.0f / 120)));
     } else {
-        const float turn = std::atan2(dot(cross(na, nb), c.tangent), dot(na, nb));
-        c.normal = orthonormalize(na * std::cos(turn * w) + cross(c.tangent, na) * std::sin(turn * w), c.tangent);
+        cos_turn = std::cos(turn);
+        sin_turn = std::sin(turn);
     }
+    const Vec3 na = ka.xyz() * cos_turn + cross(ta, ka.xyz()) * sin_turn;
+    c.normal = orthonormalize(rotate_minimal(na, ta, c.tangent), c.tangent);
     c.binormal = cross(c.tangent, c.normal);
 
     // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.

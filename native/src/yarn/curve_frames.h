@@ -1,7 +1,7 @@
 // Rotation-minimizing frames along one yarn centre-line (a uniform cubic B-spline with a
 // radius per control point), by the double-reflection method of Wang, Juettler, Zheng and
-// Liu 2008. Frames are computed once, stored at segment boundaries (a normal and the arc
-// length from the root: 4 floats per segment) and interpolated at query time, so the
+// Liu 2008. Frames are computed once, stored at segment boundaries (a normal, the arc length
+// from the root and the segment's twist: 5 floats per segment) and interpolated at query time, so the
 // azimuthal phase u_yarn and the length v_yarn of a hit follow the yarn when it moves or bends.
 //
 // Closed loops stay continuous across the seam: the frame's holonomy (the twist a
@@ -76,12 +76,15 @@ public:
     // Mean radius at the segment ends: the length unit of twist rates on this curve, m.
     float reference_radius() const { return reference_radius_; }
     const CurveView& view() const { return view_; }
-    size_t memory_bytes() const { return sizeof(*this) + knots_.capacity() * sizeof(Vec4); }
+    size_t memory_bytes() const {
+        return sizeof(*this) + knots_.capacity() * sizeof(Vec4) + twist_.capacity() * sizeof(float);
+    }
 
 private:
     CurveView view_;
     // Per segment boundary k (segment_count + 1 of them): reference normal xyz and arc length.
     std::vector<Vec4> knots_;
+    std::vector<float> twist_;  // per segment: turn of the normal about the start tangent, rad
     float reference_radius_ = 0;
 };
 

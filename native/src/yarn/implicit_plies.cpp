@@ -67,6 +67,10 @@ PlyCut cut_at(const CurveFrames& frames, const YarnDescription& d, const YarnTwi
     return cut;
 }
 
+// Closest approaches within a ply radius: one per crossed ply near side views, a few per ply
+// at grazing angles.
+constexpr int kMaxCandidates = 32;
+
 struct Candidate {
     int ply = 0;
     PlyCut cut;
@@ -109,6 +113,8 @@ PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t 
     return h;
 }
 
+constexpr int kMaxScan = 32;  // sub-intervals of the yarn stretch scanned at most
+
 // The plane through the ray in which a ply is cut, and the stretch of curve (in g) to search.
 //  ply plane (default): holds the ray and the direction perpendicular to both the ray and the
 //    ply's own tangent, so the ply's cut is an ellipse centred where its centre-line pierces
@@ -120,7 +126,17 @@ struct CuttingPlane {
     bool ply_plane = true;
     Vec3 x0, ray, normal;
     double g_lo = 0, g_hi = 0;
-    int samples = 1;  // sub-intervals of [g_lo, g_hi] scanned for crossings
+    double g_start = 0;  // the tube hit's cross-section
+    int samples = 1;     // sub-intervals of [g_lo, g_hi] scanned for crossings
+    // The yarn at the scan's sample points (evaluated once for all plies, when first needed)
+    // and at g_start.
+    bool sections_ready = false;
+    CurvePoint sections[kMaxScan + 1];
+    uint32_t section_segment[kMaxScan + 1];
+    float section_t[kMaxScan + 1];
+    CurvePoint start;
+    uint32_t start_segment = 0;
+    float start_t = 0;
 };
 
 struct PlaneOffset {
@@ -183,6 +199,28 @@ Sample sample_at(const CurveFrames& frames, const YarnDescription& d, const Yarn
     return s;
 }
 
+void prepare_sections(const CurveFrames& frames, CuttingPlane& plane) {
+    if (plane.sections_ready) return;
+    for (int i = 0; i <= plane.samples; ++i) {
+        locate(frames, plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples, plane.section_segment[i],
+               plane.section_t[i]);
+        plane.sections[i] = frames.evaluate(plane.section_segment[i], plane.section_t[i]);
+    }
+    plane.sections_ready = true;
+}
+
+// A sample at the scan's i-th point, from the section all plies share.
+Sample shared_sample(const YarnDescription& d, const YarnTwist& tw, int ply, const CuttingPlane& plane, int i) {
+    Sample s;
+    s.cut.g = plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples;
+    s.cut.segment = plane.section_segment[i];
+    s.cut.t = plane.section_t[i];
+    s.cut.yarn = plane.sections[i];
+    s.cut.centre = ply_centre(s.cut.yarn, d, tw, ply);
+    s.offset = plane_offset(s.cut, plane);
+    return s;
+}
+
 // Looks for crossings between two samples. Equal signs at both ends can still hide two
 // crossings (the ray grazes a ply between two close approaches): when both end slopes head
 // toward zero, the interval is split where the cubic through the ends turns.
@@ -236,13 +274,38 @@ void scan_interval(const CurveFrames& frames, const YarnDescription& d, const Ya
 }
 
 Pierces pierce(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
-               const CuttingPlane& plane, const PlyTraceOptions& options, float radius) {
+               CuttingPlane& plane, const PlyTraceOptions& options, float radius) {
     Pierces out;
     const float tolerance = options.tolerance * radius;
-    Sample previous = sample_at(frames, d, tw, ply, plane, plane.g_lo, out);
+    if (plane.samples == 1) {
+        // Near side views: Newton from the tube hit's cross-section (the paper's start), kept
+        // in the window. A few steps settle on the crossing, or hand over to the scan below.
+        PlyCut cut;
+        cut.g = plane.g_start;
+        cut.segment = plane.start_segment;
+        cut.t = plane.start_t;
+        cut.yarn = plane.start;
+        cut.centre = ply_centre(cut.yarn, d, tw, ply);
+        for (int step = 0; step < 4 && step < options.max_iterations; ++step) {
+            const PlaneOffset o = plane_offset(cut, plane);
+            if (!(o.slope > 0)) break;
+            const double next = cut.g - o.f / o.slope;
+            if (next < plane.g_lo || next > plane.g_hi) break;
+            if (std::fabs(next - cut.g) * cut.yarn.speed < tolerance) {
+                out.cuts[out.count++] = cut;
+                return out;
+            }
+            cut = cut_at(frames, d, tw, ply, next);
+            ++out.evaluations;
+        }
+    }
+    if (!plane.sections_ready) {
+        out.evaluations += plane.samples + 1;
+        prepare_sections(frames, plane);
+    }
+    Sample previous = shared_sample(d, tw, ply, plane, 0);
     for (int i = 1; i <= plane.samples && out.count < 8; ++i) {
-        const Sample next =
-            sample_at(frames, d, tw, ply, plane, plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples, out);
+        const Sample next = shared_sample(d, tw, ply, plane, i);
         scan_interval(frames, d, tw, ply, plane, previous, next, 0, options, tolerance, out);
         previous = next;
     }
@@ -311,6 +374,14 @@ PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const
     return h;
 }
 
+// Newton step (in metres of yarn) toward the point of the ply centre-line closest to x:
+// the root of (P - x).P', with derivative |P'|^2 + (P - x).P''.
+float closest_point_step(const PlyCut& cut, Vec3 x) {
+    const Vec3 w = cut.centre.position - x, d1 = cut.centre.derivative;
+    const float slope = dot(d1, d1) + dot(w, cut.centre.second_derivative);
+    return -dot(w, d1) / std::max(slope, 0.25f * dot(d1, d1));
+}
+
 // Where the ray enters the ply around one closest approach: the entry into the cut's
 // cylinder, moved a few times to the cylinder at the helix point closest to it. If that does
 // not settle (the ray runs nearly along the ply), a bracketed search on the distance to the
@@ -319,8 +390,7 @@ float helix_gap(const CurveFrames& frames, const YarnDescription& d, const YarnT
                 int ply, float lambda, PlyCut& cut, int& evaluations) {
     const Vec3 x = hit.point + hit.direction * lambda;
     for (int step = 0; step < 3; ++step) {
-        const Vec3 dp = cut.centre.derivative;
-        const float ds = dot(x - cut.centre.position, dp) / dot(dp, dp);
+        const float ds = closest_point_step(cut, x);
         cut = cut_at(frames, d, tw, ply, cut.g + ds / std::max(cut.yarn.speed, 1e-30f));
         ++evaluations;
         if (std::fabs(ds) < 1e-4f * cut.centre.radius) break;
@@ -341,8 +411,7 @@ bool enter_ply(const CurveFrames& frames, const YarnDescription& d, const YarnTw
     float lambda = hits ? clamp(cand.enter, 0.0f, lambda_max) : lambda_max;
     for (int r = 0; r < refinements; ++r) {
         const Vec3 x = hit.point + hit.direction * lambda;
-        const Vec3 dp = cut.centre.derivative;
-        const float ds = clamp(dot(x - cut.centre.position, dp) / dot(dp, dp), -max_shift, max_shift);
+        const float ds = clamp(closest_point_step(cut, x), -max_shift, max_shift);
         cut = cut_at(frames, d, tw, cand.ply, cut.g + ds / std::max(cut.yarn.speed, 1e-30f));
         ++evaluations;
         hits = intersect_cylinder(hit.point, hit.direction, cut.centre.position, normalize(cut.centre.derivative),
@@ -412,6 +481,7 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     const float margin = ply_radius * (1 + tan_psi) + 0.05f * radius + 0.1f * chord * std::fabs(along);
     float s_lo = std::min(0.0f, chord * along) - margin, s_hi = std::max(0.0f, chord * along) + margin;
     const double g0 = at.segment + double(at.t), inv_speed = 1.0 / std::max(c.speed, 1e-30f);
+    plane.g_start = g0;
     plane.g_lo = g0 + s_lo * inv_speed;
     plane.g_hi = g0 + s_hi * inv_speed;
     if (length(c.curvature) * radius > 0.02f) {
@@ -435,9 +505,21 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     // scan_turn radians of ply turn hold at most one each.
     const float per_interval = std::min(options.scan_turn / std::max(std::fabs(tw.ply_rate), 1e-30f),
                                         options.scan_length * radius);
-    plane.samples = std::min(32, 1 + static_cast<int>((s_hi - s_lo) / per_interval));
-    const float half = s_hi - s_lo;  // bound on refinement steps, m
+    plane.samples = std::min(kMaxScan, 1 + static_cast<int>((s_hi - s_lo) / per_interval));
+    // The Newton start is the tube hit's own cross-section, already evaluated, unless a
+    // clipped window moved it.
     int evaluations = 0;
+    if (plane.g_start >= plane.g_lo && plane.g_start <= plane.g_hi) {
+        plane.start = c;
+        plane.start_segment = at.segment;
+        plane.start_t = at.t;
+    } else {
+        plane.g_start = std::min(std::max(plane.g_start, plane.g_lo), plane.g_hi);
+        locate(frames, plane.g_start, plane.start_segment, plane.start_t);
+        plane.start = frames.evaluate(plane.start_segment, plane.start_t);
+        ++evaluations;
+    }
+    const float half = s_hi - s_lo;  // bound on refinement steps, m
 
     // A closest approach within the ply radius is a crossing; where the ray enters the ply
     // there comes from the cut's cylinder, corrected against the helix (enter_ply).
@@ -445,7 +527,7 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     uint32_t crossed_mask = 0;
     bool converged = true;
     int best = -1, worst = 0;
-    Candidate candidates[kMaxPlies * 8];
+    Candidate candidates[kMaxCandidates];
     int count = 0;
     for (int ply = 0; ply < d.plies(); ++ply) {
         Pierces p = pierce(frames, d, tw, ply, plane, options, radius);
@@ -457,7 +539,7 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
             Candidate cand{ply, cut_at_hit(at, d, tw, ply)};
             Vec3 normal;
             cand.fixed = circular_cut_hit(hit, at, cand.cut.centre, cand.enter, normal);
-            if (cand.fixed) candidates[count++] = cand;
+            if (cand.fixed && count < kMaxCandidates) candidates[count++] = cand;
         }
         for (int k = 0; k < p.count; ++k) {
             Candidate cand{ply, p.cuts[k]};
@@ -465,7 +547,7 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
             cand.approach = dot(w, hit.direction);
             const float miss = length(w - hit.direction * cand.approach);
             if (miss > cand.cut.centre.radius && plane.ply_plane) continue;  // passes beside the ply
-            candidates[count++] = cand;
+            if (count < kMaxCandidates) candidates[count++] = cand;
         }
     }
     for (int i = 0; i < count; ++i) {

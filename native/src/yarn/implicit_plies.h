@@ -30,7 +30,7 @@ struct PlyTraceOptions {
     PlyCrossSection cross_section = PlyCrossSection::elliptical;
     int max_iterations = 12;  // Newton steps per piercing before the fallback
     float tolerance = 1e-4f;  // yarn radii: a ply centre moving less than this has converged
-    int refinements = 3;      // closest-point corrections of each candidate ply hit
+    int refinements = 5;      // closest-point corrections of each candidate ply hit
     // The yarn stretch the ray crosses is scanned in sub-intervals of at most scan_turn radians
     // of ply turn and scan_length yarn radii (a closest approach hides in each at most once,
     // or shows in the slopes at its ends); near side views one interval suffices.

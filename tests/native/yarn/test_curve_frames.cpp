@@ -46,8 +46,8 @@ TEST(CurveFrames, StraightYarnKeepsItsFrameAndMeasuresLength) {
     EXPECT_NEAR(f.total_length(), 3.5f, 1e-5f);
     EXPECT_NEAR(a.radius, 0.1f, 1e-6f);
     EXPECT_NEAR(f.reference_radius(), 0.1f, 1e-6f);
-    // Four floats per segment boundary, plus the object.
-    EXPECT_LE(f.memory_bytes(), sizeof(CurveFrames) + 8 * 4 * sizeof(float));
+    // Five floats per segment (normal, arc length, twist), plus the object.
+    EXPECT_LE(f.memory_bytes(), sizeof(CurveFrames) + 8 * 5 * sizeof(float));
 }
 
 TEST(CurveFrames, HelixFrameDoesNotTwistWhereFrenetDoes) {

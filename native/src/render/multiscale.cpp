@@ -1,0 +1,343 @@
+#include "render/multiscale.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+
+#include "scene/input_error.h"
+#include "yarn/yarn_shading_point.h"
+
+namespace purl {
+namespace {
+
+constexpr float kMinCos = 1e-6f;       // as the BYSDF: directions in the reference plane carry nothing
+constexpr float kMaxChord = 200.0f;    // yarn radii; tube_exit's cap for rays running along the yarn
+constexpr float kGolden = 0.61803398875f;
+
+ParamInfo scalar(const char* name, const char* unit, float lo, float hi, float def, const char* doc,
+                 size_t offset) {
+    return {name, unit, 1, lo, hi, {def, 0, 0}, doc, offset, false};
+}
+
+std::vector<ParamInfo> build_table() {
+    return {
+        scalar("multiscale_roughness_c", "", 0.25f, 1e6f, 8.0f,
+               "C in beta_multi = beta + (h2 - h1) / C: how much a wide footprint roughens the specular lobes.",
+               offsetof(MultiscaleSettings, roughness_c)),
+        scalar("multiscale_footprint_scale", "px", 0.0f, 16.0f, 1.0f,
+               "Pixel footprint used for the h range, in pixels (0 turns multi-scale into near field).",
+               offsetof(MultiscaleSettings, footprint_scale)),
+        scalar("multiscale_max_h_samples", "", 1.0f, float(kMaxHSamples), 16.0f,
+               "Most azimuthal offsets h traced per camera hit (a whole number).",
+               offsetof(MultiscaleSettings, max_h_samples)),
+        scalar("multiscale_sample_spacing", "fibers", 0.25f, 64.0f, 1.0f,
+               "Footprint width per h sample, in fiber diameters.",
+               offsetof(MultiscaleSettings, sample_spacing)),
+        scalar("multiscale_near_limit", "fibers", 0.0f, 64.0f, 1.0f,
+               "Auto mode shades the near field when the footprint covers fewer fiber diameters than this.",
+               offsetof(MultiscaleSettings, near_limit)),
+    };
+}
+
+// Entry of the line o + s d (d unit) into the straight cylinder (c, axis, radius); false when
+// it misses or runs along the axis. A line that only grazes enters at its closest point.
+bool cylinder_entry(Vec3 o, Vec3 d, Vec3 c, Vec3 axis, float radius, float max_offset, Vec3& entry) {
+    const Vec3 w = o - c;
+    const Vec3 w_perp = w - axis * dot(w, axis), d_perp = d - axis * dot(d, axis);
+    const float a = dot(d_perp, d_perp);
+    if (!(a > 1e-12f)) return false;
+    const float b = dot(w_perp, d_perp), cc = dot(w_perp, w_perp) - radius * radius;
+    const float disc = b * b - a * cc;
+    if (disc < -a * sqr(max_offset * radius)) return false;  // misses by more than max_offset radii
+    entry = o + d * ((-b - safe_sqrt(disc)) / a);
+    return is_finite(entry);
+}
+
+// Distance (yarn radii) from `offset` (inside, relative to the axis, in radii) along unit d to
+// the straight tube's wall.
+float chord_in_radii(Vec3 offset, Vec3 axis, Vec3 d) {
+    const Vec3 w_perp = offset - axis * dot(offset, axis), d_perp = d - axis * dot(d, axis);
+    const float a = dot(d_perp, d_perp);
+    if (!(a > 1e-12f)) return kMaxChord;
+    const float b = dot(w_perp, d_perp), c = std::min(dot(w_perp, w_perp) - 1.0f, 0.0f);
+    return clamp((-b + safe_sqrt(b * b - a * c)) / a, 0.0f, kMaxChord);
+}
+
+// The tube hit of the line parallel to the camera ray at `dh` yarn radii across the yarn.
+YarnTubeHit virtual_hit(const CurveFrames& frames, const MultiscaleQuery& q, float dh) {
+    const CurvePoint& c = q.axis.point;
+    YarnTubeHit h = q.tube;
+    h.origin = q.tube.origin + q.footprint.across * (dh * c.radius);
+    Vec3 entry;
+    if (!cylinder_entry(h.origin, h.direction, c.position, c.tangent, c.radius, 1e-3f, entry)) return q.tube;
+    // Follow the entry along the centre-line; on a bend, re-enter the tube of that cross-section.
+    uint32_t segment = q.axis.segment;
+    float t = q.axis.t;
+    const float along = dot(entry - c.position, c.tangent);
+    frames.advance(segment, t, along / std::max(c.speed, 1e-30f));
+    if (std::fabs(along) > 0.25f * c.radius) {
+        const CurvePoint c2 = frames.evaluate_centreline(segment, t);
+        Vec3 entry2;
+        if (cylinder_entry(h.origin, h.direction, c2.position, c2.tangent, c2.radius, 0.05f, entry2)) {
+            frames.advance(segment, t, dot(entry2 - c2.position, c2.tangent) / std::max(c2.speed, 1e-30f));
+            entry = entry2;
+        }
+    }
+    h.point = entry;
+    h.segment = segment;
+    h.t = t;
+    return h;
+}
+
+Vec3 ply_tint(const BysdfParams& p, int ply) {
+    const int colors = static_cast<int>(clamp(p.ply_color_count, 1.0f, float(kMaxPlyColors)));
+    return p.ply_colors[ply >= 0 ? ply % colors : 0];
+}
+
+}  // namespace
+
+const std::vector<ParamInfo>& multiscale_param_table() {
+    static const std::vector<ParamInfo> table = build_table();
+    return table;
+}
+
+MultiscaleSettings default_multiscale_settings() {
+    MultiscaleSettings s{};
+    apply_defaults(s, multiscale_param_table());
+    return s;
+}
+
+void check_multiscale_settings(const MultiscaleSettings& s, const std::string& file, const std::string& place) {
+    for (const ParamInfo& info : multiscale_param_table()) {
+        const float v = *param_field(s, info);
+        if (!(v >= info.min_value && v <= info.max_value))
+            throw InputError(file, place + "." + info.name,
+                             "value " + std::to_string(v) + " outside [" + std::to_string(info.min_value) + ", " +
+                                 std::to_string(info.max_value) + "]");
+    }
+    if (s.max_h_samples != std::floor(s.max_h_samples))
+        throw InputError(file, place + ".multiscale_max_h_samples", "must be a whole number");
+}
+
+const char* multiscale_mode_name(MultiscaleMode mode) {
+    switch (mode) {
+        case MultiscaleMode::Near: return "near";
+        case MultiscaleMode::Multi: return "multi";
+        case MultiscaleMode::Far: return "far";
+        case MultiscaleMode::Auto: return "auto";
+    }
+    return "auto";
+}
+
+std::optional<MultiscaleMode> parse_multiscale_mode(const std::string& name) {
+    for (MultiscaleMode m : {MultiscaleMode::Near, MultiscaleMode::Multi, MultiscaleMode::Far, MultiscaleMode::Auto})
+        if (name == multiscale_mode_name(m)) return m;
+    return std::nullopt;
+}
+
+const char* multiscale_aggregation_name(MultiscaleAggregation a) {
+    return a == MultiscaleAggregation::Aggregate ? "aggregate" : "mixture";
+}
+
+std::optional<MultiscaleAggregation> parse_multiscale_aggregation(const std::string& name) {
+    if (name == "mixture") return MultiscaleAggregation::Mixture;
+    if (name == "aggregate") return MultiscaleAggregation::Aggregate;
+    return std::nullopt;
+}
+
+float fiber_feature_width(const YarnDescription& d) {
+    return std::max(2.0f * d.fiber_radius * d.ply_radius, 1e-4f);
+}
+
+int h_sample_count(float width, const YarnDescription& d, const MultiscaleSettings& s) {
+    const int most = static_cast<int>(clamp(s.max_h_samples, 1.0f, float(kMaxHSamples)));
+    const float per_sample = std::max(s.sample_spacing, 1e-3f) * fiber_feature_width(d);
+    const float k = std::ceil(std::max(width, 0.0f) / per_sample);
+    return k >= most ? most : std::max(1, static_cast<int>(k));  // also NaN -> 1 via max
+}
+
+MultiscaleSelector::MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink)
+    : settings_(settings), sink_(std::move(sink)) {
+    if (!sink_) sink_ = [](const std::string& m) { std::fprintf(stderr, "purl: warning: %s\n", m.c_str()); };
+}
+
+MultiscaleMode MultiscaleSelector::choose(const AzimuthalFootprint& f, const YarnDescription& d) const {
+    switch (settings_.mode) {
+        case MultiscaleMode::Near:
+        case MultiscaleMode::Multi:
+            return settings_.mode;
+        case MultiscaleMode::Far: {
+            // One pixel narrower than the yarn: far-field averages detail the pixel could resolve.
+            const float pixel_width = settings_.footprint_scale > 0 ? f.raw_width / settings_.footprint_scale : 0.0f;
+            if (f.valid && pixel_width < 2.0f && !warned_.exchange(true, std::memory_order_relaxed)) {
+                char message[256];
+                std::snprintf(message, sizeof message,
+                              "multiscale mode 'far' on yarns wider than a pixel (this one spans %.1f pixels): "
+                              "far field averages the whole yarn width and will not match near or multi "
+                              "(Khattar et al. 2024, Fig. 8); use 'auto'",
+                              pixel_width > 0 ? 2.0f / pixel_width : 0.0f);
+                sink_(message);
+            }
+            return MultiscaleMode::Far;
+        }
+        case MultiscaleMode::Auto:
+            break;
+    }
+    if (!f.valid) return MultiscaleMode::Near;
+    if (f.covers_yarn()) return MultiscaleMode::Far;
+    if (f.width() < settings_.near_limit * fiber_feature_width(d)) return MultiscaleMode::Near;
+    return MultiscaleMode::Multi;
+}
+
+MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSettings& settings,
+                                 const MultiscaleQuery& q) {
+    const CurveFrames& frames = *yarn.frames;
+    const YarnDescription& desc = *yarn.description;
+    const AzimuthalFootprint& fp = q.footprint;
+    const CurvePoint& axis = q.axis.point;
+    const float radius = std::max(axis.radius, 1e-30f);
+
+    // Without an azimuthal plane (ray along the yarn), or a footprint for multi, only h0 exists.
+    mode_ = q.mode == MultiscaleMode::Auto ? MultiscaleMode::Multi : q.mode;
+    if (fp.along_yarn || !(length(fp.across) > 0.5f) || (mode_ == MultiscaleMode::Multi && !fp.valid))
+        mode_ = MultiscaleMode::Near;
+    h1_ = mode_ == MultiscaleMode::Far ? -1.0f : (mode_ == MultiscaleMode::Near ? fp.h0 : fp.h1);
+    h2_ = mode_ == MultiscaleMode::Far ? 1.0f : (mode_ == MultiscaleMode::Near ? fp.h0 : fp.h2);
+    const float width = h2_ - h1_;
+    samples_ = mode_ == MultiscaleMode::Near ? 1 : h_sample_count(width, desc, settings);
+    roughness_increase_ = mode_ == MultiscaleMode::Near ? 0.0f : width / std::max(settings.roughness_c, 1e-6f);
+
+    BysdfParams params = *yarn.params;
+    params.specular_roughness_along += roughness_increase_;
+    params.specular_roughness_across += roughness_increase_;
+    params.transmission_roughness += roughness_increase_;
+
+    // Trace the h samples; keep the hits.
+    const float h_main = dot(q.tube.origin - axis.position, fp.across) / radius;
+    YarnShadingPoint hits[kMaxHSamples];
+    float hit_h[kMaxHSamples];
+    int hit_count = 0, nearest = -1;
+    float u = q.u_strata - std::floor(q.u_strata);
+    for (int k = 0; k < samples_; ++k) {
+        float h = fp.h0;
+        if (mode_ != MultiscaleMode::Near) {
+            const float jitter = u - std::floor(u);
+            h = h1_ + (k + jitter) * (width / samples_);
+            u += kGolden;  // each stratum's jitter is uniform on its own
+        }
+        const YarnTubeHit tube = (mode_ == MultiscaleMode::Near || width == 0) ? q.tube : virtual_hit(frames, q, h - h_main);
+        const YarnShadingPoint y = trace_yarn_hit(frames, desc, *yarn.maps, tube, yarn.curve_key, yarn.trace);
+        if (!y.hit) continue;
+        if (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0)) nearest = hit_count;
+        hit_h[hit_count] = h;
+        hits[hit_count++] = y;
+    }
+    pass_fraction_ = 1.0f - float(hit_count) / float(samples_);
+    if (pass_fraction_ > 0)
+        pass_distance_ = tube_chord_length(frames, q.axis.segment, q.axis.t, q.tube.point, q.tube.direction);
+    if (hit_count == 0) return;
+
+    const YarnShadingPoint& rep = hits[nearest];
+    position_ = rep.position;
+    segment_ = rep.segment;
+    t_ = rep.t;
+    const float w = 1.0f / float(hit_count);
+
+    // Aggregated frame and shading values (eqs. 9-11). The BYSDF is two-sided and symmetric
+    // in its tangent's sign, so normals face the viewer and tangents follow the yarn first.
+    const Vec3 view = -q.tube.direction;
+    Vec3 n_sum(0.0f), t_sum(0.0f), tint_sum(0.0f);
+    float gf = 0, gp = 0, crossed = 0;
+    for (int k = 0; k < hit_count; ++k) {
+        const YarnShadingPoint& y = hits[k];
+        n_sum += (dot(y.fiber_normal, view) >= 0 ? y.fiber_normal : -y.fiber_normal) * w;
+        t_sum += (dot(y.fiber_tangent, axis.tangent) >= 0 ? y.fiber_tangent : -y.fiber_tangent) * w;
+        gf += y.fiber_shadowing * w;
+        gp += y.ply_shadowing * w;
+        crossed += float(std::max(1, y.plies_crossed)) * w;
+        tint_sum += ply_tint(params, y.ply_index) * w;
+    }
+    g_multi_ = gf;
+    const bool single = hit_count == 1 && settings.aggregation == MultiscaleAggregation::Mixture;
+    if (single) {
+        frame_ = Frame::from_normal_tangent(rep.fiber_normal, rep.fiber_tangent);  // exactly the near field's
+    } else {
+        const float n_len = length(n_sum);
+        const Vec3 n = n_len > 1e-3f ? n_sum / n_len : rep.fiber_normal;
+        frame_ = Frame::from_normal_tangent(n, t_sum);
+    }
+    axis_tangent_ = frame_.to_local(axis.tangent);
+
+    if (settings.aggregation == MultiscaleAggregation::Aggregate) {
+        BysdfParams p = params;
+        p.ply_color_count = 1;
+        p.ply_colors[0] = tint_sum;
+        BysdfShadingPoint bp{gp, gf, std::max(1, static_cast<int>(std::lround(crossed))), 0, yarn.yarn_color};
+        Component& c = components_[0];
+        c.bsdf.emplace(p, bp);
+        c.frame = Frame();
+        c.offset = frame_.to_local(rep.position - axis.position) / radius;
+        c.h = hit_h[nearest];
+        c.weight = 1;
+        count_ = 1;
+        same_frame_ = true;
+        return;
+    }
+    for (int k = 0; k < hit_count; ++k) {
+        const YarnShadingPoint& y = hits[k];
+        Component& c = components_[k];
+        c.bsdf.emplace(params, BysdfShadingPoint{y.ply_shadowing, y.fiber_shadowing, std::max(1, y.plies_crossed),
+                                                 y.ply_index, yarn.yarn_color});
+        const Frame f = Frame::from_normal_tangent(y.fiber_normal, y.fiber_tangent);
+        c.frame.s = frame_.to_local(f.s);
+        c.frame.t = frame_.to_local(f.t);
+        c.frame.n = frame_.to_local(f.n);
+        c.offset = frame_.to_local(y.position - axis.position) / radius;
+        c.h = hit_h[k];
+        c.weight = w;
+    }
+    count_ = hit_count;
+    same_frame_ = single;
+}
+
+BsdfEvalPdf MultiscaleBysdf::evaluate(Vec3 wo, Vec3 wi) const {
+    BsdfEvalPdf out;
+    if (same_frame_) {
+        const Component& c = components_[0];
+        const float chord = wo.z * wi.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
+        return c.bsdf->eval_pdf(wo, wi, chord);
+    }
+    const float cos_ref = std::fabs(wi.z);
+    for (int k = 0; k < count_; ++k) {
+        const Component& c = components_[k];
+        const Vec3 wo_k = c.frame.to_local(wo), wi_k = c.frame.to_local(wi);
+        const float chord = wo_k.z * wi_k.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
+        const BsdfEvalPdf e = c.bsdf->eval_pdf(wo_k, wi_k, chord);
+        out.f += e.f * (c.weight * std::fabs(wi_k.z));
+        out.pdf += c.weight * e.pdf;
+    }
+    // f~ |cos_ref| is the integrand; the reference plane itself carries nothing.
+    out.f = cos_ref > kMinCos ? out.f / cos_ref : Vec3(0.0f);
+    return out;
+}
+
+std::optional<BsdfSample> MultiscaleBysdf::sample(Vec3 wo, float u_lobe, Vec2 u) const {
+    if (count_ == 0) return std::nullopt;
+    // Pick h_k by its weight and stretch u_lobe back to [0, 1) for the BYSDF's own lobe choice.
+    int k = 0;
+    float below = 0;
+    while (k + 1 < count_ && u_lobe >= below + components_[k].weight) below += components_[k++].weight;
+    const Component& c = components_[k];
+    const float u_k = clamp((u_lobe - below) / c.weight, 0.0f, 0x1.fffffep-1f);
+    const std::optional<BsdfSample> s = c.bsdf->sample(c.frame.to_local(wo), u_k, u);
+    if (!s) return std::nullopt;
+    BsdfSample out = *s;
+    out.wi = c.frame.to_world(s->wi);
+    const BsdfEvalPdf e = evaluate(wo, out.wi);
+    out.f = e.f;
+    out.pdf = e.pdf;
+    if (!(out.pdf > 0)) return std::nullopt;
+    return out;
+}
+
+}  // namespace purl

@@ -1,0 +1,170 @@
+// Multi-scale BYSDF (Khattar et al. 2024, sections 4.2 and 5.2): the yarn's BYSDF averaged
+// over the pixel footprint [h1, h2] across the yarn, so a distant yarn needs no supersampling.
+//
+//   f_multi(wo, wi) = 1/C^ integral_{h1}^{h2} W(h) f_near(wo, wi, h) dh          (eq. 8)
+//   f_far           = f_multi over [-1, 1]                                         (eq. 7)
+//
+// W(h) = 1 (box): h is uniform in projected width, so a box pixel sees every h of its
+// footprint equally; C = integral_{-1}^{1} W = 2 and C^ = h2 - h1. The integral is taken by K
+// stratified samples of h (one per `sample_spacing` fiber diameters covered, 1..max_h_samples),
+// jittered by one per-hit random number. For each h_k a virtual ray parallel to the camera
+// ray, offset across the yarn, enters the tube and goes through the implicit ply and fiber
+// query (trace_yarn_hit); a ray between the plies passes straight through (pass_fraction).
+//
+// Aggregation::Mixture (default) keeps each h_k's own frame, shading values and position:
+//   f~(wo, wi) |cos_ref| = sum_k w_k f_k(wo, wi) |cos_k|,   pdf = sum_k w_k pdf_k,
+// where cos_k is taken against h_k's fiber normal and cos_ref against the reference frame
+// (aggregated normal and tangent, eqs. 9-10): eval returns f~, so the renderer's usual
+// f |cos_ref| / pdf is exact. Transmission through the yarn is attenuated per h_k along its
+// own chord (local straight tube). Aggregation::Aggregate is the paper's shortcut: one BYSDF
+// in the aggregated frame with G_multi (eq. 11), the mean G_p, N_i and ply colour.
+// Both use beta_multi = beta + (h2 - h1) / C_beta on the three specular roughnesses.
+//
+// Rays leave from one point: the hit nearest h0 (docs/multiscale.md).
+#pragma once
+#include <array>
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bsdf/bysdf.h"
+#include "math/frame.h"
+#include "render/footprint.h"
+#include "yarn/fiber_maps.h"
+#include "yarn/implicit_plies.h"
+#include "yarn/yarn_description.h"
+#include "yarn/yarn_tube.h"
+
+namespace purl {
+
+enum class MultiscaleMode { Near, Multi, Far, Auto };
+enum class MultiscaleAggregation { Mixture, Aggregate };
+
+constexpr int kMaxHSamples = 16;
+
+struct MultiscaleSettings {
+    MultiscaleMode mode = MultiscaleMode::Auto;
+    MultiscaleAggregation aggregation = MultiscaleAggregation::Mixture;
+    // Float fields, declared in multiscale_param_table():
+    float roughness_c;       // C_beta in beta_multi = beta + (h2 - h1) / C_beta; dimensionless
+    float footprint_scale;   // pixels: multiplies the one-pixel differentials
+    float max_h_samples;     // whole number 1..16: most h samples per hit
+    float sample_spacing;    // fiber diameters of footprint per h sample
+    float near_limit;        // auto: near field below this many fiber diameters of footprint
+};
+
+const std::vector<ParamInfo>& multiscale_param_table();
+MultiscaleSettings default_multiscale_settings();
+// Throws InputError(file, place + "." + name, reason) for NaN, out-of-range or fractional values.
+void check_multiscale_settings(const MultiscaleSettings& s, const std::string& file, const std::string& place);
+
+const char* multiscale_mode_name(MultiscaleMode mode);  // "near", "multi", "far", "auto"
+std::optional<MultiscaleMode> parse_multiscale_mode(const std::string& name);
+const char* multiscale_aggregation_name(MultiscaleAggregation a);  // "mixture", "aggregate"
+std::optional<MultiscaleAggregation> parse_multiscale_aggregation(const std::string& name);
+
+// Width in h (yarn radii) of one fiber: 2 fiber_radius ply_radius; the smallest feature.
+float fiber_feature_width(const YarnDescription& d);
+// K for a covered range `width` (h units): ceil(width / (spacing x fiber)), clamped to 1..max.
+int h_sample_count(float width, const YarnDescription& d, const MultiscaleSettings& s);
+
+// Resolves Auto per hit, and warns once (per selector) when Far is forced on a yarn that is
+// wider than a pixel (the paper's Fig. 8 caveat). Thread-safe; one per render.
+class MultiscaleSelector {
+public:
+    using WarningSink = std::function<void(const std::string&)>;
+    // An empty sink prints to stderr.
+    explicit MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink = {});
+    // Near, Multi or Far. Auto: near without a valid footprint or below near_limit fibers,
+    // far when the footprint reaches both silhouettes, multi otherwise.
+    MultiscaleMode choose(const AzimuthalFootprint& f, const YarnDescription& d) const;
+    bool warned() const { return warned_.load(std::memory_order_relaxed); }
+    const MultiscaleSettings& settings() const { return settings_; }
+
+private:
+    MultiscaleSettings settings_;
+    WarningSink sink_;
+    mutable std::atomic<bool> warned_{false};
+};
+
+// The yarn a hit belongs to: what SurfaceShader keeps per yarn set and curve.
+struct MultiscaleYarn {
+    const CurveFrames* frames = nullptr;
+    const YarnDescription* description = nullptr;
+    const FiberMaps* maps = nullptr;
+    const BysdfParams* params = nullptr;
+    uint32_t curve_key = 0;       // as passed to trace_yarn_hit
+    Vec3 yarn_color{1.0f};        // BysdfShadingPoint::yarn_color
+    PlyTraceOptions trace{};
+};
+
+// One camera-ray hit on the yarn tube.
+struct MultiscaleQuery {
+    YarnTubeHit tube;               // the ray and its tube entry
+    CentrelineProjection axis;      // project_to_centreline(frames, tube.point, tube.segment, tube.t)
+    AzimuthalFootprint footprint;   // yarn_footprint(ray, tube.point, axis.point, footprint_scale)
+    MultiscaleMode mode = MultiscaleMode::Multi;  // Near, Multi or Far (resolve Auto first)
+    float u_strata = 0.5f;          // per-hit random number in [0, 1): jitters the h samples
+};
+
+class MultiscaleBysdf {
+public:
+    struct Component {
+        std::optional<Bysdf> bsdf;  // the BYSDF at h_k, with beta_multi
+        Frame frame;                // its fiber frame, in the reference frame's local coordinates
+        Vec3 offset;                // its ply point minus the axis point, yarn radii, local coordinates
+        float h = 0;                // its azimuthal offset
+        float weight = 0;           // w_k, summing to 1 over the components
+    };
+
+    MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSettings& settings, const MultiscaleQuery& q);
+
+    // Share of the footprint (h samples) that passes between the plies: continue the camera
+    // ray straight through with this probability (pass_distance further than the tube entry).
+    float pass_fraction() const { return pass_fraction_; }
+    float pass_distance() const { return pass_distance_; }  // m
+    bool empty() const { return count_ == 0; }              // every h passes: pass_fraction 1
+
+    // Reference frame: +z = aggregated normal n_multi (eq. 9), +x = aggregated tangent (eq. 10).
+    const Frame& frame() const { return frame_; }
+    Vec3 position() const { return position_; }  // m, the ply hit nearest h0: rays leave from here
+    uint32_t segment() const { return segment_; }  // centre-line parameter of position()
+    float t() const { return t_; }
+
+    // Local (reference-frame) directions, pointing away. f~ (1/sr) such that f~ |wi.z| is the
+    // footprint-averaged integrand; attenuation through the yarn is included (no chord argument).
+    Vec3 eval(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi).f; }
+    float pdf(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi).pdf; }
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi); }
+    // Picks h_k by w_k with u_lobe (rescaled, reused for the lobe), samples its BYSDF. f and
+    // pdf are the whole mixture's, attenuated: use them as they are.
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const;
+
+    // Diagnostics and tests.
+    MultiscaleMode mode() const { return mode_; }
+    int samples() const { return samples_; }        // K, h samples traced
+    int components() const { return count_; }       // Mixture: hits among them; Aggregate: 1
+    const Component& component(int k) const { return components_[k]; }
+    float h1() const { return h1_; }
+    float h2() const { return h2_; }
+    float roughness_increase() const { return roughness_increase_; }  // (h2 - h1) / C_beta
+    float fiber_shadow() const { return g_multi_; }  // G_multi (eq. 11) over the hits
+
+private:
+    BsdfEvalPdf evaluate(Vec3 wo, Vec3 wi) const;
+
+    std::array<Component, kMaxHSamples> components_;
+    int count_ = 0, samples_ = 0;
+    bool same_frame_ = false;  // one component in the reference frame: no cosine ratio needed
+    Frame frame_;
+    Vec3 position_, axis_tangent_;  // axis_tangent_: the yarn tangent in local coordinates
+    uint32_t segment_ = 0;
+    float t_ = 0;
+    float pass_fraction_ = 0, pass_distance_ = 0;
+    float h1_ = 0, h2_ = 0, roughness_increase_ = 0, g_multi_ = 1;
+    MultiscaleMode mode_ = MultiscaleMode::Near;
+};
+
+}  // namespace purl

@@ -1,0 +1,160 @@
+// The multi-scale BYSDF against its two limits, each computed independently of the model
+// (trace_yarn_hit + Bysdf per h, exact tube chords, dense midpoint quadrature over h):
+//   footprint -> 0:          f_multi -> the near field at h0 (and the mean over a sub-fiber footprint)
+//   footprint -> whole yarn: f_multi -> f_far = eq. 7
+// The model's estimate is averaged over its per-hit random number, as a renderer averages it
+// over samples; quadrature over h uses the same beta_multi.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "multiscale_fixture.h"
+
+namespace purl::test {
+namespace {
+
+constexpr float kZ = 38.3f;
+
+// Directions where all lobes show: the camera ray reversed, lights in front, behind, grazing.
+std::vector<Vec3> light_directions(float psi) {
+    return {normalize(Vec3(1, 0.3f, 0.2f)), normalize(Vec3(0.6f, -0.7f, -0.4f)), normalize(Vec3(-1, 0.2f, 0.1f)),
+            normalize(Vec3(-0.3f, 0.9f, 0.3f)), normalize(Vec3(0.2f, 0.1f, 0.97f)), StraightYarn::direction(psi) * -1.0f};
+}
+
+// Mean over [h1, h2] of the near-field integrand (pass-through counting zero) by the midpoint
+// rule with n points, for each light direction. The integrand is spiky (every fiber has its own
+// highlight): 768 points are still 4 % off, so n is in the thousands. The rays are the camera
+// ray at offset y0 moved sideways, as the model's virtual rays.
+std::vector<Vec3> quadrature(const StraightYarn& s, const MultiscaleQuery& q, float y0, float psi, float h1, float h2,
+                             float roughening, Vec3 wo, const std::vector<Vec3>& wis, int n) {
+    // The fixture's rays at offset y have h = dot(origin, across) = +-y.
+    const float sign = dot(q.footprint.across, Vec3(0, 1, 0)) > 0 ? 1.0f : -1.0f;
+    std::vector<Vec3> sum(wis.size(), Vec3(0.0f));
+    for (int i = 0; i < n; ++i) {
+        const float h = h1 + (i + 0.5f) * (h2 - h1) / n;
+        const YarnTubeHit hit = s.shifted_hit(y0, sign * h, psi, kZ);
+        for (size_t j = 0; j < wis.size(); ++j) sum[j] += near_field_integrand(s, hit, wo, wis[j], roughening) / float(n);
+    }
+    return sum;
+}
+
+// The model's integrand averaged over m evenly spread per-hit random numbers.
+std::vector<Vec3> model_mean(const StraightYarn& s, float y, float psi, float width, MultiscaleMode mode, Vec3 wo,
+                             const std::vector<Vec3>& wis, int m) {
+    std::vector<Vec3> sum(wis.size(), Vec3(0.0f));
+    for (int i = 0; i < m; ++i) {
+        const MultiscaleBysdf model(s.yarn(), s.settings, s.query(y, psi, kZ, width, mode, (i + 0.5f) / m));
+        for (size_t j = 0; j < wis.size(); ++j) sum[j] += model_integrand(model, wo, wis[j]) / float(m);
+    }
+    return sum;
+}
+
+float relative_error(Vec3 a, Vec3 b) { return max_component(max(a - b, b - a)) / std::max(max_component(b), 1e-4f); }
+
+// Largest |a - b| over directions and channels, relative to the largest value of b.
+double worst_gap(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double gap = 0, scale = 0;
+    for (size_t j = 0; j < a.size(); ++j) {
+        gap = std::max(gap, double(max_component(max(a[j] - b[j], b[j] - a[j]))));
+        scale = std::max(scale, double(max_component(b[j])));
+    }
+    return gap / scale;
+}
+
+TEST(MultiscaleLimits, TinyFootprintIsTheNearFieldAtH0) {
+    const StraightYarn s;
+    const Vec3 wo = -StraightYarn::direction(0.0f);
+    int compared = 0;
+    for (float y : {-0.6f, -0.1f, 0.35f, 0.8f}) {
+        const MultiscaleQuery q = s.query(y, 0.0f, kZ, 1e-5f, MultiscaleMode::Multi, 0.3f);
+        ASSERT_TRUE(q.footprint.valid);
+        const MultiscaleBysdf m(s.yarn(), s.settings, q);
+        EXPECT_EQ(m.samples(), 1);
+        for (Vec3 wi : light_directions(0.0f)) {
+            const Vec3 near = near_field_integrand(s, q.tube, wo, wi);
+            const Vec3 multi = model_integrand(m, wo, wi);
+            EXPECT_LT(relative_error(multi, near), 2e-3f) << "y " << y << " wi " << wi.x << " " << wi.y << " " << wi.z;
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, 24);
+}
+
+TEST(MultiscaleLimits, SmallFootprintConvergesToTheNearFieldMean) {
+    // Footprints narrower than a fiber (0.127 in h): the model's mean over its random number
+    // is the near field's mean over the same h range, and approaches f_near(h0) as it shrinks.
+    const StraightYarn s;
+    const Vec3 wo = -StraightYarn::direction(0.0f);
+    const std::vector<Vec3> wis = light_directions(0.0f);
+    const float y = 0.3f;
+    std::vector<double> to_mean, to_h0;
+    for (float width : {0.1f, 0.03f, 0.003f}) {
+        const MultiscaleQuery q = s.query(y, 0.0f, kZ, width, MultiscaleMode::Multi, 0.5f);
+        const std::vector<Vec3> model = model_mean(s, y, 0.0f, width, MultiscaleMode::Multi, wo, wis, 1024);
+        const std::vector<Vec3> mean =
+            quadrature(s, q, y, 0.0f, q.footprint.h1, q.footprint.h2, width / s.settings.roughness_c, wo, wis, 4096);
+        std::vector<Vec3> h0;
+        for (Vec3 wi : wis) h0.push_back(near_field_integrand(s, q.tube, wo, wi));
+        to_mean.push_back(worst_gap(model, mean));
+        to_h0.push_back(worst_gap(model, h0));
+        std::printf("footprint %.3f: |E f_multi - mean f_near| %.2e, |E f_multi - f_near(h0)| %.2e (of the largest value)\n",
+                    width, to_mean.back(), to_h0.back());
+    }
+    for (double e : to_mean) EXPECT_LT(e, 0.01);
+    EXPECT_LT(to_h0.back(), 0.01);
+    EXPECT_LT(to_h0.back(), to_h0.front());
+}
+
+TEST(MultiscaleLimits, WholeYarnFootprintConvergesToFarField) {
+    const StraightYarn s;
+    const Vec3 wo = -StraightYarn::direction(0.0f);
+    const std::vector<Vec3> wis = light_directions(0.0f);
+    // Far field (eq. 7) against quadrature over [-1, 1] with the same beta + 2 / C.
+    const MultiscaleQuery q = s.query(0.1f, 0.0f, kZ, 0.0f, MultiscaleMode::Far, 0.5f);
+    const std::vector<Vec3> far = model_mean(s, 0.1f, 0.0f, 0.0f, MultiscaleMode::Far, wo, wis, 512);
+    const std::vector<Vec3> ref = quadrature(s, q, 0.1f, 0.0f, -1.0f, 1.0f, 2.0f / s.settings.roughness_c, wo, wis, 16384);
+    for (size_t j = 0; j < wis.size(); ++j)
+        EXPECT_LT(relative_error(far[j], ref[j]), 0.02f) << j << ": " << far[j].x << " vs " << ref[j].x;
+    std::printf("far field vs quadrature of eq. 7: worst gap %.4f of the largest value\n", worst_gap(far, ref));
+
+    // Multi-scale footprints [-1 + e/2, 1 - e/2] growing toward the whole yarn approach the far field.
+    std::vector<double> gaps;
+    for (float short_by : {0.4f, 0.1f, 0.01f}) {
+        const std::vector<Vec3> multi = model_mean(s, 0.0f, 0.0f, 2.0f - short_by, MultiscaleMode::Multi, wo, wis, 512);
+        gaps.push_back(worst_gap(multi, far));
+        std::printf("footprint 2 - %.2f: |E f_multi - E f_far| %.4f of the largest value\n", short_by,
+                    gaps.back());
+    }
+    EXPECT_LT(gaps.back(), 0.01);
+    EXPECT_LT(gaps.back(), gaps.front());
+
+    // A footprint that reaches both silhouettes is the far field exactly, sample for sample.
+    for (float u : {0.1f, 0.77f}) {
+        const MultiscaleBysdf a(s.yarn(), s.settings, s.query(0.2f, 0.0f, kZ, 3.0f, MultiscaleMode::Far, u));
+        const MultiscaleBysdf b(s.yarn(), s.settings, s.query(0.2f, 0.0f, kZ, 3.0f, MultiscaleMode::Multi, u));
+        ASSERT_EQ(a.components(), b.components());
+        for (Vec3 wi : wis) {
+            const Vec3 fa = model_integrand(a, wo, wi), fb = model_integrand(b, wo, wi);
+            EXPECT_EQ(fa.x, fb.x);
+            EXPECT_EQ(fa.z, fb.z);
+        }
+    }
+}
+
+TEST(MultiscaleLimits, TiltedViewFarFieldMatchesQuadrature) {
+    // 50 degrees along the yarn: the virtual rays enter the tube far apart along it.
+    const StraightYarn s;
+    const float psi = 50 * kPi / 180;
+    const Vec3 wo = -StraightYarn::direction(psi);
+    const std::vector<Vec3> wis = {normalize(Vec3(1, 0.3f, -0.6f)), normalize(Vec3(-0.7f, 0.2f, -0.5f)),
+                                   normalize(Vec3(0.2f, 1, 0.1f))};
+    const MultiscaleQuery q = s.query(0.0f, psi, kZ, 0.0f, MultiscaleMode::Far, 0.5f);
+    const std::vector<Vec3> far = model_mean(s, 0.0f, psi, 0.0f, MultiscaleMode::Far, wo, wis, 512);
+    const std::vector<Vec3> ref = quadrature(s, q, 0.0f, psi, -1.0f, 1.0f, 2.0f / s.settings.roughness_c, wo, wis, 16384);
+    for (size_t j = 0; j < wis.size(); ++j)
+        EXPECT_LT(relative_error(far[j], ref[j]), 0.02f) << j << ": " << far[j].x << " vs " << ref[j].x;
+    std::printf("tilted far field vs quadrature: worst gap %.4f of the largest value\n", worst_gap(far, ref));
+}
+
+}  // namespace
+}  // namespace purl::test
