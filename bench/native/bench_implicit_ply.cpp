@@ -6,11 +6,15 @@
 //   BM_EmbreeTube      Embree ray against the yarn's round B-spline curve (what precedes BM_Implicit)
 //   BM_EmbreePlies     Embree ray against every ply as its own round B-spline curve (ply-based model)
 //   BM_ExactPlies      our exact explicit reference (sphere tracing; accuracy first)
+//   BM_TubeChord       tube_chord_length from the tube entry along the ray (what the renderer
+//                      asks twice per scattering event); second argument: bend radius in R
+//                      (0 = straight yarn)
 // Arguments: plies, view angle (degrees). Rays (random side, offset, position) are prepared
 // outside the timed loop from the explicit yarn tube, as Embree would report them.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -20,6 +24,7 @@
 #include "yarn/explicit_plies.h"
 #include "yarn/ply_validation.h"
 #include "yarn/yarn_shading_point.h"
+#include "yarn/yarn_tube.h"
 
 namespace purl {
 namespace {
@@ -159,6 +164,50 @@ void BM_ExactPlies(benchmark::State& state) {
     }
 }
 
+// Chords through a straight yarn or a closed loop of the given bend radius (yarn radius 1),
+// from random tube entries in random inward directions.
+struct ChordSetup {
+    std::vector<Vec4> points;
+    CurveFrames frames;
+    struct Query {
+        Vec3 point, direction;
+        uint32_t segment;
+        float t;
+    };
+    std::vector<Query> queries;
+    explicit ChordSetup(float bend)
+        : points(validation_curve(bend)),
+          frames(CurveView::chain(points.data(), static_cast<uint32_t>(points.size()), bend > 0)) {
+        const ExplicitPlies tube(frames, touching_plies(3));
+        Rng rng(5, static_cast<uint64_t>(bend * 10));
+        auto random_direction = [&] {
+            return normalize(Vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+        };
+        while (static_cast<int>(queries.size()) < kRays) {
+            const uint32_t segment = std::min(static_cast<uint32_t>(rng.next_float() * frames.segment_count()),
+                                              frames.segment_count() - 1);
+            const CurvePoint c = frames.evaluate(segment, rng.next_float());
+            const Vec3 dir = random_direction();
+            const ExplicitHit h = tube.intersect_tube(c.position - dir * 5.0f, dir, 0, 10);
+            if (!h.hit) continue;
+            Vec3 inward = random_direction();
+            if (dot(inward, h.point - c.position) > 0) inward = -inward;
+            queries.push_back({h.point, inward, h.segment, h.t});
+        }
+    }
+};
+
+void BM_TubeChord(benchmark::State& state) {
+    static std::map<int, std::unique_ptr<ChordSetup>> cache;
+    auto& s = cache[static_cast<int>(state.range(1))];
+    if (!s) s = std::make_unique<ChordSetup>(static_cast<float>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) {
+        const ChordSetup::Query& q = s->queries[i++ % kRays];
+        benchmark::DoNotOptimize(tube_chord_length(s->frames, q.segment, q.t, q.point, q.direction));
+    }
+}
+
 void arguments(benchmark::internal::Benchmark* b) {
     for (int plies : {2, 3, 5, 12})
         for (int view : {0, 60}) b->Args({plies, view});
@@ -170,6 +219,7 @@ BENCHMARK(BM_Circular)->Apply(arguments);
 BENCHMARK(BM_EmbreeTube)->Apply(arguments);
 BENCHMARK(BM_EmbreePlies)->Apply(arguments);
 BENCHMARK(BM_ExactPlies)->Apply(arguments);
+BENCHMARK(BM_TubeChord)->Args({3, 0})->Args({3, 4})->Args({3, 2});
 
 }  // namespace
 }  // namespace purl

@@ -1,4 +1,5 @@
-// The `purl` command: render a scene, inspect a BCC file, generate a swatch.
+// The `purl` command: render a scene, inspect a BCC file, generate a swatch, export the
+// explicit reference curves of a scene.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
@@ -11,6 +12,8 @@
 #include <unistd.h>
 
 #include "io/image_io.h"
+#include "reference/explicit_export.h"
+#include "reference/explicit_models.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
 #include "scene/input_error.h"
@@ -136,6 +139,19 @@ int run_info(const std::string& path) {
     return 0;
 }
 
+// The explicit curves as BCC plus float32 radii, for renderers that should trace the same plies
+// or fibers (reference/explicit_export.h).
+int run_export_explicit(const std::string& scene_path, const std::string& model, const std::string& output,
+                        std::string radii) {
+    if (radii.empty()) radii = fs::path(output).replace_extension(".radii").string();
+    const SceneDesc scene = load_scene_file(scene_path);
+    const SceneDesc explicit_scene = make_explicit_scene(scene, parse_yarn_model(model, "--model"));
+    const ExplicitExport e = write_explicit_curves(explicit_scene, output, radii);
+    std::fprintf(stderr, "purl: wrote %s (%zu %s curves, %zu control points, uniform cubic B-spline, Z-up) and %s\n",
+                 output.c_str(), e.curves, model.c_str(), e.points, radii.c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -169,6 +185,15 @@ int main(int argc, char** argv) {
     generate->add_option("-o,--output", generate_output, "output BCC file")->required();
     generate->add_option("--radius", swatch.yarn_radius, "yarn radius in metres");
 
+    std::string export_scene, export_model = "ply", export_output, export_radii;
+    CLI::App* export_explicit = app.add_subcommand(
+        "export-explicit", "Write a scene's explicit ply or fiber curves as a BS-type BCC file plus radii");
+    export_explicit->add_option("scene", export_scene, "scene file (JSON)")->required();
+    export_explicit->add_option("--model", export_model, "ply or fiber")->check(CLI::IsMember({"ply", "fiber"}));
+    export_explicit->add_option("-o,--output", export_output, "output BCC file")->required();
+    export_explicit->add_option("--radii", export_radii,
+                                "radius side file: float32 per BCC point, scene units (default: output.radii)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -177,6 +202,7 @@ int main(int argc, char** argv) {
     try {
         if (*render) return run_render(scene_path, output, png, spp, threads, seed, model, stats);
         if (*info) return run_info(info_path);
+        if (*export_explicit) return run_export_explicit(export_scene, export_model, export_output, export_radii);
         if (*generate) {
             const YarnCurves curves = generate_swatch(parse_swatch_kind(kind), swatch);
             write_bcc(generate_output, curves);

@@ -11,9 +11,12 @@
 #include <thread>
 
 #include "bsdf/bysdf_params.h"
+#include "bsdf/fiber_bcsdf_params.h"
 #include "bsdf/placeholder.h"
 #include "yarn/yarn_description.h"
 #include "io/image_io.h"
+#include "reference/explicit_export.h"
+#include "reference/explicit_models.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
 #include "scene/curve_arrays.h"
@@ -266,6 +269,7 @@ py::list describe_parameters(const std::vector<ParamInfo>& table) {
 const std::vector<ParamInfo>& parameter_table(const std::string& model) {
     if (model == "placeholder") return placeholder_param_table();
     if (model == "bysdf") return bysdf_param_table();
+    if (model == "fiber") return fiber_bcsdf_param_table();
     throw py::value_error("unknown material model '" + model + "'");
 }
 
@@ -340,7 +344,47 @@ PYBIND11_MODULE(purlcore, m) {
         py::arg("scene"), py::arg("points"),
         "Film positions (x right, y down from the top-left corner, in pixels) of world points as the scene's camera "
         "sees them; NaN for points behind the camera.");
-    m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder"}; });
+    m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder", "fiber"}; });
+    m.def("fiber_presets", &fiber_bcsdf_preset_names,
+          "Names accepted by material.fiber.preset (Khungurn et al. 2015 fits).");
+    m.def(
+        "explicit_curves",
+        [](const py::object& scene, const py::object& arrays, const std::string& base_dir, const std::string& model) {
+            SceneDesc desc = build_scene(scene, arrays, base_dir, std::nullopt);
+            const YarnModel which = parse_yarn_model(model, "model");
+            if (which == YarnModel::Bysdf) throw py::value_error("model must be 'ply' or 'fiber'");
+            YarnCurves c;
+            std::vector<uint32_t> set_of_curve;
+            {
+                py::gil_scoped_release release;  // generating fibers takes a while
+                c = gather_explicit_curves(make_explicit_scene(desc, which), &set_of_curve);
+            }
+            py::array_t<float> points({py::ssize_t(c.point_count()), py::ssize_t(3)});
+            py::array_t<float> radii(py::ssize_t(c.point_count()));
+            float* p = points.mutable_data();
+            float* r = radii.mutable_data();
+            for (size_t i = 0; i < c.point_count(); ++i) {
+                const Vec4& v = c.control_points[i];
+                p[3 * i] = v.x;
+                p[3 * i + 1] = v.y;
+                p[3 * i + 2] = v.z;
+                r[i] = v.w;
+            }
+            py::dict d;
+            d["points"] = points;
+            d["radii"] = radii;
+            d["offsets"] = py::array_t<uint32_t>(c.curve_offsets.size(), c.curve_offsets.data());
+            d["segments"] = py::array_t<uint32_t>(c.segment_first.size(), c.segment_first.data());
+            d["segment_offsets"] = py::array_t<uint32_t>(c.segment_offsets.size(), c.segment_offsets.data());
+            d["closed"] = py::array_t<uint8_t>(c.closed.size(), c.closed.data()).attr("astype")("bool");
+            d["ids"] = py::array_t<int32_t>(c.curve_ids.size(), c.curve_ids.data());
+            d["yarn_set"] = py::array_t<uint32_t>(set_of_curve.size(), set_of_curve.data());
+            d["basis"] = "bspline";
+            return d;
+        },
+        py::arg("scene"), py::arg("arrays") = py::none(), py::arg("base_dir") = "", py::arg("model") = "ply",
+        "The explicit ply or fiber curves the 'ply'/'fiber' models render, as uniform cubic B-spline control points "
+        "(Z-up, scene units) with per-point radii, segment tables, closed flags, yarn ids and the yarn set of each curve.");
     m.def("yarn_parameters", [] { return describe_parameters(yarn_description_params()); },
           "The yarn geometry parameters (plies, twist, fibers, migration) of the bysdf model.");
     m.def("yarn_presets", &yarn_preset_names, "Names accepted by material.yarn.preset.");

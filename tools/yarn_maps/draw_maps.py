@@ -112,7 +112,7 @@ def draw_accuracy(table: pathlib.Path, out: pathlib.Path):
     axes[0].set_title("hit/miss agreement with explicit plies (mean over 2, 3, 5, 12 plies)")
     axes[0].axhline(0.99, color="grey", linewidth=0.8)
     axes[1].set_title("mean ply tangent error (degrees)")
-    axes[2].set_title("curve evaluations per ply (mean)")
+    axes[2].set_title("curve evaluations of the busiest ply (mean over rays)")
     for ax in axes:
         ax.set_xlabel("view angle from the yarn normal (degrees)")
         ax.grid(alpha=0.3)

@@ -21,9 +21,10 @@ double width_rad(float degrees, float hi) {
     return double(d) * kDegree;
 }
 
-// Longitudinal angle from the normal plane and azimuth around the fiber (+x).
+// Longitudinal angle from the normal plane of the fiber (+x), and the direction's component
+// across the fiber (y, z), which carries its azimuth.
 struct FiberAngles {
-    float sin_theta, cos_theta, theta, phi;
+    float sin_theta, cos_theta, theta, y, z;
 };
 FiberAngles angles(Vec3 w) {
     const float len = length(w);
@@ -32,8 +33,13 @@ FiberAngles angles(Vec3 w) {
     a.sin_theta = clamp(w.x, -1.0f, 1.0f);
     a.cos_theta = safe_sqrt(1 - a.sin_theta * a.sin_theta);
     a.theta = std::asin(a.sin_theta);
-    a.phi = std::atan2(w.z, w.y);
+    a.y = w.y;
+    a.z = w.z;
     return a;
+}
+// phi_i - phi_o - pi in [-pi, pi], from the across-fiber components (one atan2).
+float azimuth_difference(const FiberAngles& o, const FiberAngles& i) {
+    return std::atan2(-(o.y * i.z - o.z * i.y), -(o.y * i.y + o.z * i.z));
 }
 
 // Composite Simpson of N(theta; mean, sigma^2) cos^2 theta over [-pi/2, pi/2], restricted to
@@ -110,8 +116,10 @@ float FiberBcsdf::sample_azimuth_tt(float u_choice, float u) const {
     return -kPi + 2 * kPi * u;
 }
 
-void FiberBcsdf::lobe_probabilities(Vec3 wo, float prob[2]) const {
-    const Vec3 f = fresnel(angles(wo).cos_theta);
+void FiberBcsdf::lobe_probabilities(Vec3 wo, float prob[2]) const { lobe_probabilities(angles(wo).cos_theta, prob); }
+
+void FiberBcsdf::lobe_probabilities(float cos_theta_o, float prob[2]) const {
+    const Vec3 f = fresnel(cos_theta_o);
     prob[kReflection] = average(f);
     prob[kTransmission] = average((Vec3(1.0f) - f) * transmission_color_);
     const float total = prob[0] + prob[1];
@@ -124,7 +132,7 @@ Vec3 FiberBcsdf::scattering(Vec3 wo, Vec3 wi) const {
     const FiberAngles o = angles(wo), i = angles(wi);
     if (!(o.cos_theta > kMinCos && i.cos_theta > kMinCos)) return Vec3(0.0f);  // also NaN
     const Vec3 f = fresnel(o.cos_theta);
-    const float phi_d = std::remainder(i.phi - o.phi - kPi, 2 * kPi);
+    const float phi_d = azimuth_difference(o, i);
     const Vec3 s = f * (r_.eval(i.theta, o.theta) / (2 * kPi)) +
                    (Vec3(1.0f) - f) * transmission_color_ * (tt_.eval(i.theta, o.theta) * azimuthal_tt(phi_d));
     return s * i.cos_theta;
@@ -140,8 +148,8 @@ float FiberBcsdf::pdf(Vec3 wo, Vec3 wi) const {
     const FiberAngles o = angles(wo), i = angles(wi);
     if (!(o.cos_theta > kMinCos && i.cos_theta > kMinCos)) return 0.0f;
     float prob[2];
-    lobe_probabilities(wo, prob);
-    const float phi_d = std::remainder(i.phi - o.phi - kPi, 2 * kPi);
+    lobe_probabilities(o.cos_theta, prob);
+    const float phi_d = azimuth_difference(o, i);
     float p = 0;
     if (prob[kReflection] > 0) p += prob[kReflection] * r_.sample_pdf(i.theta, o.theta) / (2 * kPi);
     if (prob[kTransmission] > 0) p += prob[kTransmission] * tt_.sample_pdf(i.theta, o.theta) * azimuthal_tt(phi_d);
@@ -152,8 +160,9 @@ std::optional<BsdfSample> FiberBcsdf::sample(Vec3 wo, float u_lobe, Vec2 u) cons
     const FiberAngles o = angles(wo);
     if (!(o.cos_theta > kMinCos)) return std::nullopt;
     float prob[2];
-    lobe_probabilities(wo, prob);
+    lobe_probabilities(o.cos_theta, prob);
     if (!(prob[0] + prob[1] > 0)) return std::nullopt;
+    const float phi_o = std::atan2(o.z, o.y);
     BsdfSample s;
     float theta, phi;
     if (u_lobe < prob[kReflection] || !(prob[kTransmission] > 0)) {
@@ -167,7 +176,7 @@ std::optional<BsdfSample> FiberBcsdf::sample(Vec3 wo, float u_lobe, Vec2 u) cons
         // Reuse what is left of u_lobe to choose the Gaussian or the uniform part of N_TT.
         const float u_choice = std::min((u_lobe - prob[kReflection]) / prob[kTransmission], 0.99999994f);
         theta = tt_.sample(o.theta, u.x);
-        phi = o.phi + kPi + sample_azimuth_tt(u_choice, u.y);
+        phi = phi_o + kPi + sample_azimuth_tt(u_choice, u.y);
     }
     const float cos_theta = std::cos(theta);
     if (!(cos_theta > kMinCos)) return std::nullopt;

@@ -71,6 +71,7 @@ public:
 
 private:
     Vec3 fresnel(float cos_theta_o) const;
+    void lobe_probabilities(float cos_theta_o, float prob[2]) const;
     float azimuthal_tt(float phi_d) const;  // N_TT, per radian
     float sample_azimuth_tt(float u_choice, float u) const;
 

@@ -21,7 +21,7 @@ ParamInfo scalar(const char* name, const char* unit, float lo, float hi, float d
 
 std::vector<ParamInfo> build_table() {
     return {
-        scalar("multiscale_roughness_c", "", 0.25f, 1e6f, 8.0f,
+        scalar("multiscale_roughness_c", "", 0.25f, 1e6f, 64.0f,
                "C in beta_multi = beta + (h2 - h1) / C: how much a wide footprint roughens the specular lobes.",
                offsetof(MultiscaleSettings, roughness_c)),
         scalar("multiscale_footprint_scale", "px", 0.0f, 16.0f, 1.0f,

@@ -3,6 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include "bsdf/ply_bsdf.h"
+#include "math/bspline.h"
+#include "reference/explicit_sampling.h"
+#include "scene/input_error.h"
 #include "yarn/yarn_shading_point.h"
 #include "yarn/yarn_tube.h"
 
@@ -14,6 +18,16 @@ float ray_offset(Vec3 p, float yarn_radius) {
 }
 
 ShadingPoint::Exit ShadingPoint::leave(Vec3 wi) const {
+    if (cylinder_radius > 0) {
+        // Where the ray leaves the cylinder it starts in (0 when it heads outward); rays nearly
+        // along the axis are cut at 20 radii, where the fiber has bent away anyway.
+        const Vec3 q = position - cylinder_point;
+        const Vec3 qp = q - cylinder_axis * dot(q, cylinder_axis), vp = wi - cylinder_axis * dot(wi, cylinder_axis);
+        const float a = dot(vp, vp), b = dot(qp, vp), c = dot(qp, qp) - cylinder_radius * cylinder_radius;
+        float chord = a > 1e-12f ? (-b + std::sqrt(std::max(0.0f, b * b - a * c))) / a : 0.0f;
+        chord = clamp(chord, 0.0f, 20 * cylinder_radius);
+        return {position + wi * (chord + ray_offset(position, cylinder_radius)), 0.0f};
+    }
     if (tube) {
         const float chord = tube_chord_length(*tube, segment, t, position, wi);
         return {position + wi * (chord + ray_offset(position, yarn_radius)), chord / yarn_radius};
@@ -63,6 +77,22 @@ SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
                     c.segment_first.data() + first_segment, c.segment_count(i), c.closed[i] != 0));
             }
             data.maps = std::make_unique<FiberMaps>(set.material.yarn);
+        } else if (set.material.model == "ply") {
+            // The ply curves' own frames (for exits through the ply tube), and the yarns they
+            // came from with the same frames, arc lengths and twist as the BYSDF scene.
+            data.frames = yarn_set_frames(set.curves);
+            data.maps = std::make_unique<FiberMaps>(set.material.yarn);
+            const PlyOrigins& o = set.material.ply;
+            if (!o.yarns || o.curves.size() != set.curves.curve_count())
+                throw InputError(scene.source, set.name, "a \"ply\" material needs the origins make_explicit_scene fills in");
+            data.yarn_frames = yarn_set_frames(*o.yarns);
+            data.yarn_arc.reserve(data.yarn_frames.size());
+            for (const CurveFrames& f : data.yarn_frames) {
+                data.yarn_arc.emplace_back(f);
+                data.yarn_twist.push_back(yarn_twist(f, set.material.yarn));
+            }
+        } else if (set.material.model == "fiber") {
+            data.fiber = std::make_unique<FiberBcsdf>(set.material.fiber);
         }
         yarn_sets_.push_back(std::move(data));
     }
@@ -74,7 +104,10 @@ size_t SurfaceShader::memory_bytes() const {
     size_t bytes = 0;
     for (const YarnSetData& d : yarn_sets_) {
         for (const CurveFrames& f : d.frames) bytes += f.memory_bytes();
+        for (const CurveFrames& f : d.yarn_frames) bytes += f.memory_bytes();
+        for (const ArcLengthIndex& a : d.yarn_arc) bytes += a.memory_bytes();
         if (d.maps) bytes += d.maps->memory_bytes();
+        if (d.fiber) bytes += sizeof(FiberBcsdf);
     }
     return bytes;
 }
@@ -101,6 +134,14 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray) c
         sp.bsdf = make_placeholder_bsdf(m.placeholder);
         return out;
     }
+    if (m.model == "ply") {
+        shade_ply(hit, ray, yarn_sets_[hit.object], m, sp);
+        return out;
+    }
+    if (m.model == "fiber") {
+        shade_fiber(hit, wo, n, yarn_sets_[hit.object], sp);
+        return out;
+    }
     // BYSDF: find the ply and fiber under the tube hit.
     const YarnSetData& data = yarn_sets_[hit.object];
     const CurveFrames& frames = data.frames[hit.curve];
@@ -124,6 +165,74 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray) c
     bp.ply_index = y.ply_index;
     sp.bsdf = Bysdf(m.bysdf, bp);
     return out;
+}
+
+void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,
+                              ShadingPoint& sp) const {
+    // The ply centre-line point under the hit and the ply normal there.
+    const CurveFrames& ply = data.frames[hit.curve];
+    const CentrelineProjection c = project_to_centreline(ply, hit.position, hit.segment, hit.u);
+    const Vec3 tangent = c.point.tangent;
+    Vec3 radial = hit.position - c.point.position;
+    radial -= tangent * dot(radial, tangent);
+    const float len = length(radial);
+    Vec3 normal = len > 1e-12f * c.point.radius ? radial / len : -ray.direction - tangent * dot(-ray.direction, tangent);
+    normal = normalize(normal);
+    if (!is_finite(normal)) normal = hit.geometric_normal;
+
+    // Back to the yarn cross-section this point of the ply came from: the ply's knots sit at
+    // even steps of yarn arc length, so its curve parameter maps linearly onto v_yarn.
+    const PlyCurveOrigin& o = m.ply.curves[hit.curve];
+    const CurveFrames& yarn_frames = data.yarn_frames[o.yarn_curve];
+    float s = o.arc_start + (float(c.segment) + c.t) * o.arc_step;
+    const float loop = yarn_frames.total_length();
+    if (yarn_frames.closed() && loop > 0) s -= loop * std::floor(s / loop);
+    CurveParam yarn_param;
+    const CurvePoint yarn = data.yarn_arc[o.yarn_curve].point_at(s, &yarn_param);
+    const YarnTwist& twist = data.yarn_twist[o.yarn_curve];
+    const PlyCentre centre = ply_centre(yarn, m.yarn, twist, o.ply);
+
+    // The same ply hit the implicit model would report, so the fiber maps are read alike.
+    PlyHit h;
+    h.hit = true;
+    h.ply = o.ply;
+    h.plies_crossed = 1;
+    h.point = hit.position;
+    h.normal = normal;
+    h.tangent = tangent;
+    h.outward = normalize(centre.outward - tangent * dot(centre.outward, tangent));
+    const Vec3 side = cross(tangent, h.outward);
+    const float u_ply = std::atan2(dot(normal, side), dot(normal, h.outward));
+    h.u_ply = u_ply < 0 ? u_ply + 2 * kPi : u_ply;
+    h.v_ply = yarn.arc_length * twist.ply_stretch;
+    h.u_yarn = CurveFrames::azimuth(yarn, hit.position);
+    h.v_yarn = yarn.arc_length;
+    h.segment = yarn_param.segment;
+    h.t = yarn_param.t;
+    const YarnShadingPoint y = shade_ply_hit(h, yarn_frames, m.yarn, *data.maps, m.ply.key_base + o.yarn_curve);
+
+    sp.position = hit.position;
+    sp.frame = Frame::from_normal_tangent(y.fiber_normal, y.fiber_tangent);
+    sp.tube = &ply;  // rays leave through this ply's tube; other plies are traced
+    sp.segment = c.segment;
+    sp.t = c.t;
+    sp.yarn_radius = c.point.radius / std::max(m.yarn.ply_radius, 1e-6f);  // chords stay per yarn radius
+    sp.bsdf = make_ply_bsdf(m.bysdf, y.fiber_shadowing, o.ply);
+}
+
+void SurfaceShader::shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data,
+                                ShadingPoint& sp) const {
+    // Any normal around the fiber gives the same light (fiber_bcsdf.h); face the viewer.
+    const Vec3 t = hit.tangent;
+    const Vec3 across = wo - t * dot(wo, t);
+    const float len = length(across);
+    sp.frame = Frame::from_normal_tangent(len > 1e-6f ? across / len : normal, t);
+    sp.bsdf = FiberBcsdfRef{data.fiber.get()};
+    const Vec4* cp = &scene_.yarns[hit.object].curves.control_points[hit.primitive];
+    const BSplineWeights w = bspline_basis(hit.u);
+    sp.cylinder_point = cp[0].xyz() * w.w[0] + cp[1].xyz() * w.w[1] + cp[2].xyz() * w.w[2] + cp[3].xyz() * w.w[3];
+    sp.cylinder_axis = t;
+    sp.cylinder_radius = hit.radius;
 }
 
 }  // namespace purl

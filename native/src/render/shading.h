@@ -1,6 +1,9 @@
 // Turns a surface hit into a scattering event: a model in a local frame plus the rule for
 // where rays leave. Yarns with the BYSDF go through the implicit geometry first (plies,
-// fibers, shadowing); a ray that meets no ply passes through the yarn.
+// fibers, shadowing); a ray that meets no ply passes through the yarn. The explicit references
+// (reference/explicit_models.h): "ply" curves take the BYSDF at ply level with fiber detail from
+// the same maps and leave through their own tube; "fiber" curves take the fiber BCSDF and leave
+// through the fiber's local cylinder.
 #pragma once
 #include <memory>
 #include <optional>
@@ -8,17 +11,20 @@
 #include <vector>
 
 #include "bsdf/bysdf.h"
+#include "bsdf/fiber_bcsdf.h"
 #include "bsdf/placeholder.h"
 #include "math/frame.h"
 #include "math/ray.h"
+#include "reference/arc_length.h"
 #include "scene/embree_scene.h"
 #include "scene/scene.h"
 #include "yarn/curve_frames.h"
 #include "yarn/fiber_maps.h"
+#include "yarn/ply_helix.h"
 
 namespace purl {
 
-using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf>;
+using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf, FiberBcsdfRef>;
 
 struct ShadingPoint {
     Frame frame;          // world <-> local; local +z is the shading normal
@@ -34,6 +40,9 @@ struct ShadingPoint {
     uint32_t segment = 0;
     float t = 0;
     float yarn_radius = 0;
+    // Explicit fibers: rays leave through the fiber as a cylinder (axis point, unit axis, m).
+    float cylinder_radius = 0;
+    Vec3 cylinder_point, cylinder_axis;
 
     struct Exit {
         Vec3 origin;     // where a ray toward wi starts
@@ -65,7 +74,15 @@ private:
     struct YarnSetData {
         std::vector<CurveFrames> frames;   // per curve
         std::unique_ptr<FiberMaps> maps;   // shared by the set's curves
+        // "ply" sets: the yarns the plies came from, per yarn curve.
+        std::vector<CurveFrames> yarn_frames;
+        std::vector<ArcLengthIndex> yarn_arc;
+        std::vector<YarnTwist> yarn_twist;
+        std::unique_ptr<FiberBcsdf> fiber;  // "fiber" sets: the per-material BCSDF
     };
+    void shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,
+                   ShadingPoint& sp) const;
+    void shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data, ShadingPoint& sp) const;
     const SceneDesc& scene_;
     std::vector<YarnSetData> yarn_sets_;
     std::vector<uint32_t> curve_key_base_;

@@ -1,9 +1,11 @@
 // The scene as every front door (CLI, Python, Blender) describes it: plain data, no Embree.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bsdf/bysdf_params.h"
+#include "bsdf/fiber_bcsdf_params.h"
 #include "bsdf/placeholder.h"
 #include "math/transform.h"
 #include "scene/curves.h"
@@ -66,11 +68,28 @@ struct WorldDesc {
     float rotation_z = 0.0f;
 };
 
+// Where each curve of an explicit ply set (material "ply", made by reference/explicit_models.h)
+// lies along the yarn it was made from: the shader looks the fiber maps up as the BYSDF does.
+struct PlyCurveOrigin {
+    uint32_t yarn_curve = 0;  // curve index in PlyOrigins::yarns
+    int32_t ply = 0;          // 0 .. N-1
+    float arc_start = 0;      // m: yarn arc length (v_yarn) at the ply curve's first knot
+    float arc_step = 0;       // m of yarn arc length per knot (one segment of the ply curve)
+};
+struct PlyOrigins {
+    std::shared_ptr<const YarnCurves> yarns;  // the centre-lines the plies twist around
+    std::vector<PlyCurveOrigin> curves;       // one per curve of the set
+    uint32_t key_base = 0;                    // migration key of yarns' curve 0 in the BYSDF scene
+};
+
 struct MaterialDesc {
-    std::string model = "bysdf";   // "bysdf" or "placeholder"
+    // "bysdf", "placeholder", "fiber" (explicit fibers), or "ply" (made by make_explicit_scene only)
+    std::string model = "bysdf";
     PlaceholderParams placeholder;  // used by "placeholder"
-    BysdfParams bysdf;              // used by "bysdf": appearance
-    YarnDescription yarn;           // used by "bysdf": plies and fibers found implicitly
+    BysdfParams bysdf;              // used by "bysdf" and "ply": appearance
+    YarnDescription yarn;           // used by "bysdf" and "ply": plies and fibers
+    FiberBcsdfParams fiber = default_fiber_bcsdf_params();  // used by "fiber" and the fibers made from "bysdf"
+    PlyOrigins ply;                 // used by "ply"
     MaterialDesc();
 };
 

@@ -124,12 +124,32 @@ void read_params(JsonObject& o, const std::vector<ParamInfo>& table, Params& par
     }
 }
 
+// The fiber BCSDF's parameters: an optional "preset" (Khungurn et al.'s fits), then overrides.
+void read_fiber_params(JsonObject& o, FiberBcsdfParams& p) {
+    if (o.has("preset")) {
+        const std::string name = o.string("preset", "");
+        try {
+            p = fiber_bcsdf_preset(name);
+        } catch (const InputError& e) {
+            o.fail("preset", e.reason());
+        }
+    }
+    read_params(o, fiber_bcsdf_param_table(), p);
+}
+
 MaterialDesc read_material(JsonObject o) {
     MaterialDesc m;
-    m.model = o.choice("model", "bysdf", {"bysdf", "placeholder"});
+    m.model = o.choice("model", "bysdf", {"bysdf", "placeholder", "fiber"});
     if (m.model == "placeholder") {
         read_params(o, placeholder_param_table(), m.placeholder);
+    } else if (m.model == "fiber") {
+        read_fiber_params(o, m.fiber);  // curves that already are fibers
     } else {
+        if (o.has("fiber")) {  // for the fiber-based reference made from this yarn
+            JsonObject f = o.object("fiber");
+            read_fiber_params(f, m.fiber);
+            f.finish();
+        }
         read_params(o, bysdf_param_table(), m.bysdf);
         if (o.has("yarn")) {
             JsonObject y = o.object("yarn");

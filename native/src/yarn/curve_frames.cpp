@@ -207,7 +207,15 @@ CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
         sin_turn = std::sin(turn);
     }
     const Vec3 na = ka.xyz() * cos_turn + cross(ta, ka.xyz()) * sin_turn;
-    c.normal = orthonormalize(rotate_minimal(na, ta, c.tangent), c.tangent);
+    // na is unit and perpendicular to ta (the knots are orthonormalized at build time), and the
+    // smallest rotation keeps both: only the half-turn branch needs orthonormalizing.
+    const float ct = dot(ta, c.tangent);
+    if (ct > -0.9f) {
+        const Vec3 k = cross(ta, c.tangent);
+        c.normal = na * ct + cross(k, na) + k * (dot(k, na) / (1.0f + ct));
+    } else {
+        c.normal = orthonormalize(rotate_minimal(na, ta, c.tangent), c.tangent);
+    }
     c.binormal = cross(c.tangent, c.normal);
 
     // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.

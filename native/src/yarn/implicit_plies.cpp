@@ -35,6 +35,19 @@ bool intersect_cylinder(Vec3 origin, Vec3 direction, Vec3 axis_point, Vec3 axis,
     return leave > 0;
 }
 
+// Fixed-size scratch arrays left uninitialized: the per-query arrays below hold kilobytes of
+// CurvePoints whose default member initializers would otherwise be zeroed on every query (a
+// measurable share of a side-view query). Only trivially copyable aggregates are stored.
+template <class T, int N>
+struct Slots {
+    union {
+        T items[N];
+    };
+    Slots() {}
+    T& operator[](int i) { return items[i]; }
+    const T& operator[](int i) const { return items[i]; }
+};
+
 // One ply's centre-line at one cross-section of the yarn. The position along the curve is
 // an unwrapped parameter g = segment + t: loops may run past their seam, open curves stop at
 // their ends.
@@ -114,6 +127,7 @@ PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t 
 }
 
 constexpr int kMaxScan = 32;  // sub-intervals of the yarn stretch scanned at most
+constexpr int kMaxPlies = 16;  // plies with a precomputed phase offset (descriptions allow 12)
 
 // The plane through the ray in which a ply is cut, and the stretch of curve (in g) to search.
 //  ply plane (default): holds the ray and the direction perpendicular to both the ray and the
@@ -125,18 +139,34 @@ constexpr int kMaxScan = 32;  // sub-intervals of the yarn stretch scanned at mo
 struct CuttingPlane {
     bool ply_plane = true;
     Vec3 x0, ray, normal;
+    Vec3 side;  // ray x normal: with `normal`, coordinates across the ray
+    float twist = 0;  // ply_rate, rad/m
     double g_lo = 0, g_hi = 0;
     double g_start = 0;  // the tube hit's cross-section
     int samples = 1;     // sub-intervals of [g_lo, g_hi] scanned for crossings
     // The yarn at the scan's sample points (evaluated once for all plies, when first needed)
     // and at g_start.
     bool sections_ready = false;
-    CurvePoint sections[kMaxScan + 1];
+    Slots<CurvePoint, kMaxScan + 1> sections;
     uint32_t section_segment[kMaxScan + 1];
     float section_t[kMaxScan + 1];
     CurvePoint start;
     uint32_t start_segment = 0;
     float start_t = 0;
+    // Ply phases by angle addition: each section's yarn phase (ply 0) turned by each ply's
+    // fixed offset 2 pi i / N, so one sine and cosine per section serve all plies.
+    float section_cos[kMaxScan + 1], section_sin[kMaxScan + 1];
+    float start_cos = 1, start_sin = 0;
+    float ply_cos[kMaxPlies], ply_sin[kMaxPlies];
+    int plies = 0;
+
+    PlyCentre centre(const CurvePoint& yarn, const YarnDescription& d, const YarnTwist& tw, float base_cos,
+                     float base_sin, int ply) const {
+        if (ply >= plies) return ply_centre(yarn, d, tw, ply);
+        const float phase = 2 * kPi * ply / plies + ply_phase(tw, yarn.arc_length);
+        return ply_centre(yarn, d, tw, phase, base_cos * ply_cos[ply] - base_sin * ply_sin[ply],
+                          base_sin * ply_cos[ply] + base_cos * ply_sin[ply]);
+    }
 };
 
 struct PlaneOffset {
@@ -154,7 +184,7 @@ PlaneOffset plane_offset(const PlyCut& cut, const CuttingPlane& plane) {
 // The crossings of one ply's centre-line through its plane, each by Newton steps kept
 // inside its bracket (bisection when a step leaves it).
 struct Pierces {
-    PlyCut cuts[8];
+    Slots<PlyCut, 8> cuts;
     int count = 0;
     int evaluations = 0;
     bool converged = true;
@@ -205,6 +235,8 @@ void prepare_sections(const CurveFrames& frames, CuttingPlane& plane) {
         locate(frames, plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples, plane.section_segment[i],
                plane.section_t[i]);
         plane.sections[i] = frames.evaluate(plane.section_segment[i], plane.section_t[i]);
+        plane.section_cos[i] = std::cos(plane.twist * plane.sections[i].arc_length);
+        plane.section_sin[i] = std::sin(plane.twist * plane.sections[i].arc_length);
     }
     plane.sections_ready = true;
 }
@@ -216,14 +248,14 @@ Sample shared_sample(const YarnDescription& d, const YarnTwist& tw, int ply, con
     s.cut.segment = plane.section_segment[i];
     s.cut.t = plane.section_t[i];
     s.cut.yarn = plane.sections[i];
-    s.cut.centre = ply_centre(s.cut.yarn, d, tw, ply);
+    s.cut.centre = plane.centre(s.cut.yarn, d, tw, plane.section_cos[i], plane.section_sin[i], ply);
     s.offset = plane_offset(s.cut, plane);
     return s;
 }
 
 // Looks for crossings between two samples. Equal signs at both ends can still hide two
-// crossings (the ray grazes a ply between two close approaches): when both end slopes head
-// toward zero, the interval is split where the cubic through the ends turns.
+// crossings (the ray grazes a ply between two close approaches): where the cubic through the
+// ends' values and slopes turns back toward zero, the interval is split and searched again.
 void scan_interval(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
                    const CuttingPlane& plane, const Sample& a, const Sample& b, int depth,
                    const PlyTraceOptions& options, float tolerance, Pierces& out) {
@@ -273,10 +305,91 @@ void scan_interval(const CurveFrames& frames, const YarnDescription& d, const Ya
     scan_interval(frames, d, tw, ply, plane, m, b, depth + 1, options, tolerance, out);
 }
 
+// Culling: can a ply's centre-line come within reach of the ray between two cuts whose
+// positions and derivatives are known? The stretch is modelled by the cubic Hermite in arc
+// length through both ends (exact at the ends; for a helix over 1.5 rad of turn it is off by
+// about 1% of a yarn radius), and that cubic is bounded away from the ray: each quarter of it
+// (a Bezier piece) lies in the hull of its control points, and all of them on the far side of a
+// line at distance D across the ray means no point of the piece comes nearer than D. The
+// model's own error is estimated from how far its second derivative at the ends is from the
+// helix's (for the cubic Hermite the error is h^2/32 times that mismatch when the fourth
+// derivative is steady) and allowed for three times over, plus 2% of a yarn radius.
+bool beyond_reach(const PlyCut& a, const PlyCut& b, const CuttingPlane& plane, float yarn_radius) {
+    const float h = b.yarn.arc_length - a.yarn.arc_length;
+    if (!(h > 1e-6f * yarn_radius) || h > 8 * yarn_radius) return false;  // seam of a loop, or degenerate
+    const Vec3 c0 = a.centre.position - plane.x0, c3 = b.centre.position - plane.x0;
+    const Vec3 c1 = c0 + a.centre.derivative * (h / 3), c2 = c3 - b.centre.derivative * (h / 3);
+    const float inv_h2 = 6.0f / (h * h);
+    const float mismatch = std::max(length(a.centre.second_derivative - (c0 - c1 * 2 + c2) * inv_h2),
+                                    length(b.centre.second_derivative - (c1 - c2 * 2 + c3) * inv_h2));
+    const float reach = std::max(a.centre.radius, b.centre.radius) + 3 * (h * h / 32) * mismatch +
+                        0.02f * yarn_radius;
+    // Across the ray: 2D coordinates in the plane perpendicular to it.
+    const Vec3 e1 = plane.normal, e2 = plane.side;
+    const Vec3 c[4] = {c0, c1, c2, c3};
+    float x[4], y[4];
+    for (int i = 0; i < 4; ++i) x[i] = dot(c[i], e1), y[i] = dot(c[i], e2);
+    // The ends lie on the curve: one within reach settles it (the usual case for a crossed ply).
+    const float reach2 = reach * reach;
+    if (x[0] * x[0] + y[0] * y[0] <= reach2 || x[3] * x[3] + y[3] * y[3] <= reach2) return false;
+    // The whole stretch's hull first, then its quarters.
+    {
+        const float mx = x[0] + x[1] + x[2] + x[3], my = y[0] + y[1] + y[2] + y[3];
+        const float m = std::sqrt(mx * mx + my * my);
+        float lower = 1e30f;
+        for (int i = 0; i < 4; ++i) lower = std::min(lower, x[i] * mx + y[i] * my);
+        if (lower > reach * m) return true;
+    }
+    // Bezier point and derivative at u (Bernstein form).
+    auto point = [&](float u, float& px, float& py, float& dx, float& dy) {
+        const float v = 1 - u;
+        const float b0 = v * v * v, b1 = 3 * u * v * v, b2 = 3 * u * u * v, b3 = u * u * u;
+        px = b0 * x[0] + b1 * x[1] + b2 * x[2] + b3 * x[3];
+        py = b0 * y[0] + b1 * y[1] + b2 * y[2] + b3 * y[3];
+        const float d0 = 3 * v * v, d1 = 6 * u * v, d2 = 3 * u * u;
+        dx = d0 * (x[1] - x[0]) + d1 * (x[2] - x[1]) + d2 * (x[3] - x[2]);
+        dy = d0 * (y[1] - y[0]) + d1 * (y[2] - y[1]) + d2 * (y[3] - y[2]);
+    };
+    float px0, py0, dx0, dy0;
+    point(0, px0, py0, dx0, dy0);
+    for (int k = 1; k <= 4; ++k) {
+        float px1, py1, dx1, dy1;
+        point(0.25f * k, px1, py1, dx1, dy1);
+        // The quarter's control points (its length in u is 1/4, so derivatives scale by 1/12).
+        const float qx[4] = {px0, px0 + dx0 / 12, px1 - dx1 / 12, px1};
+        const float qy[4] = {py0, py0 + dy0 / 12, py1 - dy1 / 12, py1};
+        const float mx = qx[0] + qx[1] + qx[2] + qx[3], my = qy[0] + qy[1] + qy[2] + qy[3];
+        const float m = std::sqrt(mx * mx + my * my);
+        float lower = 1e30f;
+        for (int i = 0; i < 4; ++i) lower = std::min(lower, qx[i] * mx + qy[i] * my);
+        if (!(lower > reach * m)) return false;
+        px0 = px1, py0 = py1, dx0 = dx1, dy0 = dy1;
+    }
+    return true;
+}
+
+// Below this many plies a side-view ray crosses most of them anyway: culling would cost more
+// (two shared evaluations and the bounds) than it saves.
+constexpr int kSideCullPlies = 5;
+
 Pierces pierce(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
                CuttingPlane& plane, const PlyTraceOptions& options, float radius) {
     Pierces out;
     const float tolerance = options.tolerance * radius;
+    if (plane.ply_plane && plane.samples == 1 && options.cull && d.plies() >= kSideCullPlies) {
+        // Near side views: cull a ply that stays out of reach of the ray on both sides of the
+        // tube hit's cross-section (the window's ends are evaluated once for all plies).
+        if (!plane.sections_ready) {
+            out.evaluations += plane.samples + 1;
+            prepare_sections(frames, plane);
+        }
+        PlyCut start;
+        start.g = plane.g_start;
+        start.yarn = plane.start;
+        start.centre = plane.centre(start.yarn, d, tw, plane.start_cos, plane.start_sin, ply);
+        const Sample lo = shared_sample(d, tw, ply, plane, 0), hi = shared_sample(d, tw, ply, plane, 1);
+        if (beyond_reach(lo.cut, start, plane, radius) && beyond_reach(start, hi.cut, plane, radius)) return out;
+    }
     if (plane.samples == 1) {
         // Near side views: Newton from the tube hit's cross-section (the paper's start), kept
         // in the window. A few steps settle on the crossing, or hand over to the scan below.
@@ -285,7 +398,7 @@ Pierces pierce(const CurveFrames& frames, const YarnDescription& d, const YarnTw
         cut.segment = plane.start_segment;
         cut.t = plane.start_t;
         cut.yarn = plane.start;
-        cut.centre = ply_centre(cut.yarn, d, tw, ply);
+        cut.centre = plane.centre(cut.yarn, d, tw, plane.start_cos, plane.start_sin, ply);
         for (int step = 0; step < 4 && step < options.max_iterations; ++step) {
             const PlaneOffset o = plane_offset(cut, plane);
             if (!(o.slope > 0)) break;
@@ -306,7 +419,8 @@ Pierces pierce(const CurveFrames& frames, const YarnDescription& d, const YarnTw
     Sample previous = shared_sample(d, tw, ply, plane, 0);
     for (int i = 1; i <= plane.samples && out.count < 8; ++i) {
         const Sample next = shared_sample(d, tw, ply, plane, i);
-        scan_interval(frames, d, tw, ply, plane, previous, next, 0, options, tolerance, out);
+        if (!(plane.ply_plane && options.cull && beyond_reach(previous.cut, next.cut, plane, radius)))
+            scan_interval(frames, d, tw, ply, plane, previous, next, 0, options, tolerance, out);
         previous = next;
     }
     return out;
@@ -382,10 +496,8 @@ float closest_point_step(const PlyCut& cut, Vec3 x) {
     return -dot(w, d1) / std::max(slope, 0.25f * dot(d1, d1));
 }
 
-// Where the ray enters the ply around one closest approach: the entry into the cut's
-// cylinder, moved a few times to the cylinder at the helix point closest to it. If that does
-// not settle (the ray runs nearly along the ply), a bracketed search on the distance to the
-// helix between the tube entry and the closest approach. False when the ray misses the ply.
+// Distance from the ray point at `lambda` to the ply surface (negative inside), with `cut`
+// moved to the helix point closest to it.
 float helix_gap(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
                 int ply, float lambda, PlyCut& cut, int& evaluations) {
     const Vec3 x = hit.point + hit.direction * lambda;
@@ -400,6 +512,10 @@ float helix_gap(const CurveFrames& frames, const YarnDescription& d, const YarnT
     return length(r - axis * dot(r, axis)) - cut.centre.radius;
 }
 
+// Where the ray enters the ply around one closest approach: the entry into the cut's
+// cylinder, moved a few times to the cylinder at the helix point closest to it. If that does
+// not settle (the ray runs nearly along the ply), a bracketed search on the distance to the
+// helix between the tube entry and the closest approach. False when the ray misses the ply.
 bool enter_ply(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
                bool exact_approach, float tolerance, int refinements, float max_shift, Candidate& cand,
                int& evaluations) {
@@ -412,6 +528,11 @@ bool enter_ply(const CurveFrames& frames, const YarnDescription& d, const YarnTw
     for (int r = 0; r < refinements; ++r) {
         const Vec3 x = hit.point + hit.direction * lambda;
         const float ds = clamp(closest_point_step(cut, x), -max_shift, max_shift);
+        if (hits && std::fabs(ds) < tolerance) {  // settled: this cut's cylinder is the answer
+            cand.cut = cut;
+            cand.enter = lambda;
+            return true;
+        }
         cut = cut_at(frames, d, tw, cand.ply, cut.g + ds / std::max(cut.yarn.speed, 1e-30f));
         ++evaluations;
         hits = intersect_cylinder(hit.point, hit.direction, cut.centre.position, normalize(cut.centre.derivative),
@@ -467,6 +588,7 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     plane.x0 = hit.point;
     plane.ray = hit.direction;
     plane.normal = normalize(cross(hit.direction, across / across_length));
+    plane.side = cross(plane.ray, plane.normal);
 
     // The stretch of yarn the ray crosses: entry to exit of the straight tube at the hit,
     // widened by how far along the yarn a ply's cut can reach.
@@ -519,6 +641,14 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
         plane.start = frames.evaluate(plane.start_segment, plane.start_t);
         ++evaluations;
     }
+    plane.twist = tw.ply_rate;
+    plane.start_cos = std::cos(tw.ply_rate * plane.start.arc_length);
+    plane.start_sin = std::sin(tw.ply_rate * plane.start.arc_length);
+    plane.plies = std::min(std::max(1, d.plies()), kMaxPlies);
+    for (int i = 0; i < plane.plies; ++i) {
+        plane.ply_cos[i] = std::cos(2 * kPi * i / plane.plies);
+        plane.ply_sin[i] = std::sin(2 * kPi * i / plane.plies);
+    }
     const float half = s_hi - s_lo;  // bound on refinement steps, m
 
     // A closest approach within the ply radius is a crossing; where the ray enters the ply
@@ -527,7 +657,7 @@ PlyHit trace_elliptical(const CurveFrames& frames, const YarnDescription& d, con
     uint32_t crossed_mask = 0;
     bool converged = true;
     int best = -1, worst = 0;
-    Candidate candidates[kMaxCandidates];
+    Slots<Candidate, kMaxCandidates> candidates;
     int count = 0;
     for (int ply = 0; ply < d.plies(); ++ply) {
         Pierces p = pierce(frames, d, tw, ply, plane, options, radius);

@@ -1,16 +1,20 @@
 // Implicit plies (Khattar et al. 2024, section 3.3): given a ray that entered the yarn tube,
-// find the ply it meets, without any ply geometry in the scene.
+// find the ply it meets, without any ply geometry in the scene. Plies are the helices of
+// ply_helix.h; docs/implicit-geometry.md has the measured accuracy.
 //
-// Elliptical cross-section (the paper's method): the plane that contains the ray and the
-// direction across the yarn (T x w) cuts the tube in an ellipse. For every ply, Newton steps
-// along the yarn, starting at the circular cross-section of the tube hit, move to where the
-// ply's helix centre-line pierces that plane. The ray is then traced in the plane against
-// each ply's cut (the ply taken as a cylinder along its helix tangent there); the nearest
-// ply wins and N_i counts the plies the ray crosses. The winning hit is corrected once
-// against the helix point closest to it, which matters on tight bends and at grazing angles.
+// Elliptical cross-section (default): for every ply, where its centre-line crosses a plane
+// through the ray, starting from the tube hit's circular cross-section. The plane holds the ray
+// and the direction perpendicular to both the ray and the ply's own tangent, so the ply's cut
+// in it is an ellipse centred on the crossing, and the crossings are the centre-line's closest
+// approaches to the ray. Near side views one Newton solve per ply; at oblique views the yarn
+// stretch the ray crosses is scanned and every crossing solved by safeguarded Newton steps.
+// A crossing within the ply radius is a ply the ray crosses (N_i); the ray is traced in the
+// plane against the cut (the ply as a cylinder along its tangent there), and that entry is
+// corrected against the helix point closest to it. The nearest entry wins.
 //
-// Circular cross-section (Zhu et al. 2023, the prototype; for comparison only): the plies are
-// frozen in the tube's perpendicular cross-section at the hit and the ray is projected into it.
+// elliptical_yarn_plane: the paper's plane taken literally (one plane for all plies, oriented
+// by the yarn's tangent); it loses plies at oblique views, kept for comparison. Circular (Zhu
+// et al. 2023, the prototype): plies frozen in the perpendicular cross-section at the hit.
 #pragma once
 #include <cstdint>
 
@@ -28,7 +32,7 @@ enum class PlyCrossSection {
 
 struct PlyTraceOptions {
     PlyCrossSection cross_section = PlyCrossSection::elliptical;
-    int max_iterations = 12;  // Newton steps per piercing before the fallback
+    int max_iterations = 12;  // Newton steps per crossing before the fallback
     float tolerance = 1e-4f;  // yarn radii: a ply centre moving less than this has converged
     int refinements = 5;      // closest-point corrections of each candidate ply hit
     // The yarn stretch the ray crosses is scanned in sub-intervals of at most scan_turn radians
@@ -36,6 +40,9 @@ struct PlyTraceOptions {
     // or shows in the slopes at its ends); near side views one interval suffices.
     float scan_turn = 1.5f;
     float scan_length = 2.0f;
+    // Skip the crossings of plies whose centre-line provably (up to a model error allowed for
+    // three times over) stays more than a ply radius from the ray (elliptical only).
+    bool cull = true;
 };
 
 // The renderer's yarn-tube hit: the ray and where it entered the tube.
@@ -63,8 +70,8 @@ struct PlyHit {
     float arrangement_azimuth = 0;  // rad in [0, 2 pi): u_yarn relative to ply 0 (G_p map coordinate)
     uint32_t segment = 0;   // centre-line parameter of the ply point's cross-section
     float t = 0;
-    int iterations = 0;     // Newton steps, summed over the plies
-    int max_ply_iterations = 0;  // most Newton steps any one ply needed
+    int iterations = 0;     // curve evaluations spent (scan sections, Newton steps, corrections)
+    int max_ply_iterations = 0;  // most curve evaluations one ply's crossing search needed
     bool converged = true;  // false when a ply fell back to the circular cross-section
 };
 

@@ -34,9 +34,14 @@ YarnTwist yarn_twist(const CurveFrames& frames, const YarnDescription& d) {
 
 PlyCentre ply_centre(const CurvePoint& yarn, const YarnDescription& d, const YarnTwist& twist, int ply) {
     const int plies = std::max(1, d.plies());
+    const float phase = 2 * kPi * ply / plies + ply_phase(twist, yarn.arc_length);
+    return ply_centre(yarn, d, twist, phase, std::cos(phase), std::sin(phase));
+}
+
+PlyCentre ply_centre(const CurvePoint& yarn, const YarnDescription& d, const YarnTwist& twist, float phase,
+                     float c, float s) {
     PlyCentre p;
-    p.phase = 2 * kPi * ply / plies + ply_phase(twist, yarn.arc_length);
-    const float c = std::cos(p.phase), s = std::sin(p.phase);
+    p.phase = phase;
     p.outward = yarn.normal * c + yarn.binormal * s;
     const float offset = d.ply_distance * yarn.radius;
     p.position = yarn.position + p.outward * offset;

@@ -36,5 +36,9 @@ struct PlyCentre {
 inline float ply_phase(const YarnTwist& twist, float arc_length) { return twist.ply_rate * arc_length; }
 
 PlyCentre ply_centre(const CurvePoint& yarn, const YarnDescription& d, const YarnTwist& twist, int ply);
+// The same for a phase whose cosine and sine the caller already has (e.g. one turn of the
+// yarn's phase shared by all plies, combined with each ply's fixed offset).
+PlyCentre ply_centre(const CurvePoint& yarn, const YarnDescription& d, const YarnTwist& twist, float phase,
+                     float cos_phase, float sin_phase);
 
 }  // namespace purl

@@ -25,25 +25,63 @@ Projected project(const CurveFrames& frames, Vec3 x, uint32_t segment, float t, 
         // Beyond the centre of curvature the distance has no minimum here: take a plain step.
         const float fp = std::max(1.0f + dot(w, c.curvature), 0.2f);
         const float ds = clamp(-f / fp, -4 * c.radius, 4 * c.radius);
+        if (std::fabs(ds) < tolerance) {  // within tolerance of the closest point: keep this one
+            converged = true;
+            break;
+        }
         if (!frames.advance(segment, t, ds / std::max(c.speed, 1e-30f))) {
             c = frames.evaluate_centreline(segment, t);
             break;  // the closest point is past an open end
         }
         c = frames.evaluate_centreline(segment, t);
-        if (std::fabs(ds) < tolerance) {
-            converged = true;
-            break;
-        }
     }
     return {segment, t, c, converged};
 }
 
 // Signed distance of x outside the tube (negative inside), and the projection it used.
-float outside_distance(const CurveFrames& frames, Vec3 x, uint32_t& segment, float& t) {
+float outside_distance(const CurveFrames& frames, Vec3 x, uint32_t& segment, float& t, CurvePoint* at = nullptr) {
     const Projected p = project(frames, x, segment, t, 6);
     segment = p.segment;
     t = p.t;
+    if (at) *at = p.c;
     return length(x - p.c.position) - p.c.radius;
+}
+
+// Where the ray from `point` leaves the straight cylinder along c's tangent (-1: it does not).
+float cylinder_exit(const CurvePoint& c, Vec3 point, Vec3 direction) {
+    const Vec3 w = point - c.position;
+    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
+    const Vec3 d_perp = direction - c.tangent * dot(direction, c.tangent);
+    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
+    const float disc = b * b - a * (dot(w_perp, w_perp) - c.radius * c.radius);
+    if (a < 1e-12f || disc < 0) return -1;
+    return (-b + std::sqrt(disc)) / a;
+}
+
+// Regula falsi (Illinois) inside the bracket h(lo) <= 0 < h(hi).
+TubeExit illinois(const CurveFrames& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
+                  float h_lo, float h_hi, uint32_t seg, float tt) {
+    float h = 0;
+    int side = 0;
+    float x = hi;
+    for (int step = 0; step < 40; ++step) {
+        x = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
+        if (!(x > lo && x < hi)) x = 0.5f * (lo + hi);
+        h = outside_distance(frames, point + direction * x, seg, tt);
+        if (std::fabs(h) < 1e-5f * radius || hi - lo < 1e-6f * radius) break;
+        if (h > 0) {
+            hi = x;
+            h_hi = h;
+            if (side == 1) h_lo *= 0.5f;
+            side = 1;
+        } else {
+            lo = x;
+            h_lo = h;
+            if (side == -1) h_hi *= 0.5f;
+            side = -1;
+        }
+    }
+    return {std::isfinite(x) ? std::max(x, 0.0f) : 0.0f, seg, tt};
 }
 
 }  // namespace
@@ -83,8 +121,32 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
     uint32_t seg = start.segment;
     float tt = start.t;
     float lo = 0, hi = -1, h_lo = -radius, h_hi = 0;
-    float h = outside_distance(frames, point + direction * guess, seg, tt);
+    CurvePoint near;
+    float h = outside_distance(frames, point + direction * guess, seg, tt, &near);
     if (std::fabs(h) < 1e-5f * radius) return {guess, seg, tt};
+    // On a bend the cylinder at the guess's own cross-section fits the tube where the ray
+    // leaves much better than the one at the start: one such step usually lands within
+    // tolerance. Accepted only when it moves less than a radius and keeps the bracket's order.
+    {
+        const float better = cylinder_exit(near, point, direction);
+        if (better > 0 && std::fabs(better - guess) < radius && better < max_chord) {
+            uint32_t seg2 = seg;
+            float tt2 = tt;
+            const float h2 = outside_distance(frames, point + direction * better, seg2, tt2);
+            if (std::fabs(h2) < 1e-5f * radius) return {better, seg2, tt2};
+            // Keep whichever of the two points brackets the exit more tightly.
+            if ((h > 0 && h2 > 0 && better < guess) || (h <= 0 && h2 <= 0 && better > guess)) {
+                guess = better, h = h2, seg = seg2, tt = tt2;
+            } else if (h > 0 && h2 <= 0 && better < guess) {
+                // Bracket [better, guess] directly.
+                float lo = better, hi = guess, h_lo = h2, h_hi = h;
+                return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, seg, tt);
+            } else if (h <= 0 && h2 > 0 && better > guess) {
+                float lo = guess, hi = better, h_lo = h, h_hi = h2;
+                return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, seg2, tt2);
+            }
+        }
+    }
     if (h > 0) {
         hi = guess;
         h_hi = h;
@@ -105,27 +167,7 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
         }
         if (hi < 0) return {std::min(x, max_chord), seg, tt};  // never left: runs along the yarn
     }
-    // Regula falsi (Illinois) inside the bracket.
-    int side = 0;
-    float x = hi;
-    for (int step = 0; step < 40; ++step) {
-        x = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
-        if (!(x > lo && x < hi)) x = 0.5f * (lo + hi);
-        h = outside_distance(frames, point + direction * x, seg, tt);
-        if (std::fabs(h) < 1e-5f * radius || hi - lo < 1e-6f * radius) break;
-        if (h > 0) {
-            hi = x;
-            h_hi = h;
-            if (side == 1) h_lo *= 0.5f;
-            side = 1;
-        } else {
-            lo = x;
-            h_lo = h;
-            if (side == -1) h_hi *= 0.5f;
-            side = -1;
-        }
-    }
-    return {std::isfinite(x) ? std::max(x, 0.0f) : 0.0f, seg, tt};
+    return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, seg, tt);
 }
 
 }  // namespace purl

@@ -143,7 +143,7 @@ Chi2Result fiber_chi2(const FiberBcsdf& m, Vec3 wo, int runs, uint64_t seed, int
 
 TEST(FiberBcsdf, ChiSquareOverRandomConfigurationsAndPresets) {
     const std::vector<std::string> presets = fiber_bcsdf_preset_names();
-    constexpr int kRandom = 10;
+    constexpr int kRandom = 8;
     const int runs = kRandom + int(presets.size());
     Rng rng(2015);
     int failures = 0, run = 0;

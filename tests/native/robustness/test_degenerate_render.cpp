@@ -99,7 +99,7 @@ void render_and_check(const std::string& material) {
     int yarn_pixels = 0;
     for (float v : id->pixels) yarn_pixels += v > 0;
     EXPECT_GT(yarn_pixels, 10);
-    RecordProperty("invalid_samples", std::to_string(result.stats.invalid_samples));
+    testing::Test::RecordProperty("invalid_samples", std::to_string(result.stats.invalid_samples));
     std::printf("%s: %.2f s, %llu of %llu samples invalid (dropped)\n", material.c_str(), seconds,
                 (unsigned long long)result.stats.invalid_samples, (unsigned long long)result.stats.samples);
 }

@@ -221,5 +221,47 @@ TEST(ImplicitPlies, HelixDerivativesMatchFiniteDifferences) {
     }
 }
 
+// Culling (PlyTraceOptions::cull) only skips crossings that could not be within a ply radius:
+// with and without it every ray must give the same ply, point and N_i, on straight yarns and
+// on a tight loop, for few and many plies, side and oblique views.
+TEST(ImplicitPlies, CullingNeverChangesTheResult) {
+    for (float bend : {0.0f, 2.0f}) {
+        const std::vector<Vec4> points = validation_curve(bend);
+        const CurveFrames frames(CurveView::chain(points.data(), static_cast<uint32_t>(points.size()), bend > 0));
+        const ExplicitPlies tube(frames, touching_plies(3));
+        for (int plies : {2, 5, 12}) {
+            const YarnDescription d = touching_plies(plies);
+            int culled_evaluations = 0, full_evaluations = 0;
+            for (float view : {0.0f, 30.0f, 60.0f, 80.0f}) {
+                const float psi = view * kPi / 180;
+                for (int i = 0; i < 60; ++i) {
+                    // Rays at the yarn from around it, offset across the tube, tilted by psi.
+                    const uint32_t segment = 2 + static_cast<uint32_t>(i * 7) % (frames.segment_count() - 4);
+                    const CurvePoint c = frames.evaluate(segment, 0.37f);
+                    const float side = 0.7f * i, offset = std::fmod(0.37f * i, 1.9f) - 0.95f;
+                    const Vec3 toward = c.normal * std::cos(side) + c.binormal * std::sin(side);
+                    const Vec3 across = cross(c.tangent, toward);
+                    const Vec3 dir = normalize(-toward * std::cos(psi) + c.tangent * std::sin(psi));
+                    const Vec3 origin = c.position + across * (offset * c.radius) - dir * 10.0f;
+                    const ExplicitHit entry = tube.intersect_tube(origin, dir, 0, 20);
+                    if (!entry.hit) continue;
+                    const YarnTubeHit h{origin, dir, entry.point, entry.segment, entry.t};
+                    PlyTraceOptions full;
+                    full.cull = false;
+                    const PlyHit a = trace_plies(frames, d, h), b = trace_plies(frames, d, h, full);
+                    culled_evaluations += a.iterations;
+                    full_evaluations += b.iterations;
+                    ASSERT_EQ(a.hit, b.hit) << bend << " " << plies << " " << view << " " << i;
+                    EXPECT_EQ(a.ply, b.ply);
+                    EXPECT_EQ(a.plies_crossed, b.plies_crossed);
+                    EXPECT_LT(length(a.point - b.point), 1e-4f);
+                    EXPECT_EQ(a.converged, b.converged);
+                }
+            }
+            if (plies >= 5) EXPECT_LT(culled_evaluations, full_evaluations) << bend << " " << plies;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace purl

@@ -59,7 +59,7 @@ TEST(PlyValidation, ReferenceMatchesAnalyticCylinders) {
     const YarnTwist tw = yarn_twist(f, d);
     for (int i = 0; i < 30; ++i) {
         const Vec3 dir = normalize(Vec3(-1, 0.1f * (i % 7) - 0.3f, 0.05f * i - 0.7f));
-        const Vec3 origin = Vec3(5, 0.07f * i - 1, 40) - dir * 0;
+        const Vec3 origin(5, 0.07f * i - 1, 40);
         float best = 1e30f;
         for (int p = 0; p < 3; ++p) {
             // Ray against the infinite cylinder of ply p (axis along z).

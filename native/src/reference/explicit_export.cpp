@@ -1,0 +1,74 @@
+#include "reference/explicit_export.h"
+
+#include <cstring>
+#include <fstream>
+
+#include "scene/bcc.h"
+#include "scene/input_error.h"
+
+namespace purl {
+
+YarnCurves gather_explicit_curves(const SceneDesc& scene, std::vector<uint32_t>* set_of_curve) {
+    YarnCurves all;
+    for (size_t y = 0; y < scene.yarns.size(); ++y) {
+        const YarnSetDesc& set = scene.yarns[y];
+        if (set.material.model != "ply" && set.material.model != "fiber") continue;
+        const YarnCurves& c = set.curves;
+        const uint32_t point_base = static_cast<uint32_t>(all.control_points.size());
+        const uint32_t segment_base = static_cast<uint32_t>(all.segment_first.size());
+        all.control_points.insert(all.control_points.end(), c.control_points.begin(), c.control_points.end());
+        for (uint32_t s : c.segment_first) all.segment_first.push_back(point_base + s);
+        for (size_t k = 1; k < c.curve_offsets.size(); ++k) {
+            all.curve_offsets.push_back(point_base + c.curve_offsets[k]);
+            all.segment_offsets.push_back(segment_base + c.segment_offsets[k]);
+        }
+        all.closed.insert(all.closed.end(), c.closed.begin(), c.closed.end());
+        all.curve_ids.insert(all.curve_ids.end(), c.curve_ids.begin(), c.curve_ids.end());
+        if (set_of_curve) set_of_curve->insert(set_of_curve->end(), c.curve_count(), static_cast<uint32_t>(y));
+    }
+    return all;
+}
+
+std::vector<float> bcc_point_radii(const YarnCurves& curves) {
+    // The same walk as write_bcc: chains as they are (closed ones without the 3 wrapped
+    // points), anything else one 4-point curve per segment.
+    std::vector<float> radii;
+    radii.reserve(curves.point_count());
+    for (size_t c = 0; c < curves.curve_count(); ++c) {
+        const uint32_t begin = curves.curve_offsets[c], end = curves.curve_offsets[c + 1];
+        const uint32_t s0 = curves.segment_offsets[c], s1 = curves.segment_offsets[c + 1];
+        bool chain = (end - begin) == (s1 - s0) + 3;
+        for (uint32_t s = s0; chain && s < s1; ++s) chain = curves.segment_first[s] == begin + (s - s0);
+        const Vec4* p = &curves.control_points[begin];
+        if (chain) {
+            const size_t n = end - begin;
+            bool wrapped = curves.closed[c] && n >= 6;
+            for (size_t i = 0; wrapped && i < 3; ++i) wrapped = std::memcmp(&p[n - 3 + i], &p[i], sizeof(Vec4)) == 0;
+            for (size_t i = 0; i < (wrapped ? n - 3 : n); ++i) radii.push_back(p[i].w);
+        } else {
+            for (uint32_t s = s0; s < s1; ++s)
+                for (int i = 0; i < 4; ++i) radii.push_back(curves.control_points[curves.segment_first[s] + i].w);
+        }
+    }
+    return radii;
+}
+
+ExplicitExport write_explicit_curves(const SceneDesc& scene, const std::string& bcc_path,
+                                     const std::string& radii_path) {
+    const YarnCurves curves = gather_explicit_curves(scene);
+    if (curves.curve_count() == 0)
+        throw InputError(scene.source, "yarns", "no yarn set has the bysdf material: nothing explicit to export");
+    write_bcc(bcc_path, curves, "purl explicit reference curves");
+    const std::vector<float> radii = bcc_point_radii(curves);
+    std::ofstream out(radii_path, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(radii_path, "", "cannot open file for writing");
+    // float32 little-endian: the byte order of every machine Purl builds on (x86-64, arm64).
+    out.write(reinterpret_cast<const char*>(radii.data()), static_cast<std::streamsize>(radii.size() * sizeof(float)));
+    if (!out) throw InputError(radii_path, "", "write failed");
+    ExplicitExport e;
+    e.curves = curves.curve_count();  // every explicit curve is a chain: one BCC curve each
+    e.points = radii.size();
+    return e;
+}
+
+}  // namespace purl
