@@ -121,14 +121,14 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
     uint32_t seg = start.segment;
     float tt = start.t;
     float lo = 0, hi = -1, h_lo = -radius, h_hi = 0;
-    CurvePoint near;
-    float h = outside_distance(frames, point + direction * guess, seg, tt, &near);
+    CurvePoint at_guess;
+    float h = outside_distance(frames, point + direction * guess, seg, tt, &at_guess);
     if (std::fabs(h) < 1e-5f * radius) return {guess, seg, tt};
     // On a bend the cylinder at the guess's own cross-section fits the tube where the ray
     // leaves much better than the one at the start: one such step usually lands within
     // tolerance. Accepted only when it moves less than a radius and keeps the bracket's order.
     {
-        const float better = cylinder_exit(near, point, direction);
+        const float better = cylinder_exit(at_guess, point, direction);
         if (better > 0 && std::fabs(better - guess) < radius && better < max_chord) {
             uint32_t seg2 = seg;
             float tt2 = tt;

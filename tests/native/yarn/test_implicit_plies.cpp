@@ -258,7 +258,9 @@ TEST(ImplicitPlies, CullingNeverChangesTheResult) {
                     EXPECT_EQ(a.converged, b.converged);
                 }
             }
-            if (plies >= 5) EXPECT_LT(culled_evaluations, full_evaluations) << bend << " " << plies;
+            if (plies >= 5) {
+                EXPECT_LT(culled_evaluations, full_evaluations) << bend << " " << plies;
+            }
         }
     }
 }
