@@ -212,29 +212,37 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     params.specular_roughness_across += roughness_increase_;
     params.transmission_roughness += roughness_increase_;
 
-    // Trace the h samples; keep the hits.
+    // Trace the h samples; keep the hits. The stratum holding h0 takes the camera ray itself:
+    // h0 is uniform over the pixel, so that sample is as random as a jittered one, it costs
+    // no virtual ray, and rays leave from where the near field would leave.
     const float h_main = dot(q.tube.origin - axis.position, fp.across) / radius;
+    const int own = width > 0 ? std::min(samples_ - 1, std::max(0, static_cast<int>((fp.h0 - h1_) / width * samples_))) : 0;
     YarnShadingPoint hits[kMaxHSamples];
     float hit_h[kMaxHSamples];
     int hit_count = 0, nearest = -1;
+    bool own_hit = false;
     float u = q.u_strata - std::floor(q.u_strata);
     for (int k = 0; k < samples_; ++k) {
         float h = fp.h0;
-        if (mode_ != MultiscaleMode::Near) {
+        if (k != own) {
             const float jitter = u - std::floor(u);
             h = h1_ + (k + jitter) * (width / samples_);
             u += kGolden;  // each stratum's jitter is uniform on its own
         }
-        const YarnTubeHit tube = (mode_ == MultiscaleMode::Near || width == 0) ? q.tube : virtual_hit(frames, q, h - h_main);
+        const YarnTubeHit tube = k == own ? q.tube : virtual_hit(frames, q, h - h_main);
         const YarnShadingPoint y = trace_yarn_hit(frames, desc, *yarn.maps, tube, yarn.curve_key, yarn.trace);
         if (!y.hit) continue;
-        if (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0)) nearest = hit_count;
+        if (k == own) own_hit = true;
+        if (k == own || (!own_hit && (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0))))
+            nearest = hit_count;
         hit_h[hit_count] = h;
         hits[hit_count++] = y;
     }
     pass_fraction_ = 1.0f - float(hit_count) / float(samples_);
-    if (pass_fraction_ > 0)
-        pass_distance_ = tube_chord_length(frames, q.axis.segment, q.axis.t, q.tube.point, q.tube.direction);
+    frames_ = &frames;
+    entry_ = q.tube;
+    axis_segment_ = q.axis.segment;
+    axis_t_ = q.axis.t;
     if (hit_count == 0) return;
 
     const YarnShadingPoint& rep = hits[nearest];
@@ -298,6 +306,11 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     }
     count_ = hit_count;
     same_frame_ = single;
+}
+
+float MultiscaleBysdf::pass_distance() const {
+    if (!frames_) return 0.0f;
+    return tube_chord_length(*frames_, axis_segment_, axis_t_, entry_.point, entry_.direction);
 }
 
 BsdfEvalPdf MultiscaleBysdf::evaluate(Vec3 wo, Vec3 wi) const {

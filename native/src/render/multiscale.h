@@ -124,7 +124,7 @@ public:
     // Share of the footprint (h samples) that passes between the plies: continue the camera
     // ray straight through with this probability (pass_distance further than the tube entry).
     float pass_fraction() const { return pass_fraction_; }
-    float pass_distance() const { return pass_distance_; }  // m
+    float pass_distance() const;  // m; computed on demand (a tube exit search)
     bool empty() const { return count_ == 0; }              // every h passes: pass_fraction 1
 
     // Reference frame: +z = aggregated normal n_multi (eq. 9), +x = aggregated tangent (eq. 10).
@@ -162,7 +162,11 @@ private:
     Vec3 position_, axis_tangent_;  // axis_tangent_: the yarn tangent in local coordinates
     uint32_t segment_ = 0;
     float t_ = 0;
-    float pass_fraction_ = 0, pass_distance_ = 0;
+    float pass_fraction_ = 0;
+    const CurveFrames* frames_ = nullptr;  // for pass_distance: the tube entry and its parameter
+    YarnTubeHit entry_;
+    uint32_t axis_segment_ = 0;
+    float axis_t_ = 0;
     float h1_ = 0, h2_ = 0, roughness_increase_ = 0, g_multi_ = 1;
     MultiscaleMode mode_ = MultiscaleMode::Near;
 };

@@ -244,6 +244,11 @@ YarnCurves load_bcc(const std::string& path, float radius) {
             points.emplace_back(y_up ? bcc_y_up_to_z_up(file.points[i]) : file.points[i], radius);
         const BSplineSegments seg =
             to_bspline_segments(file.header.basis, points.data(), points.size(), file.closed[c] != 0);
+        // Finite points near the float limit can overflow in the basis change (found by fuzzing).
+        for (const Vec4& p : seg.points)
+            if (!is_finite(p.xyz()))
+                throw InputError(path, "curve " + std::to_string(c),
+                                 "coordinates too large: converting them to B-spline control points overflows");
         curves.add(seg, file.closed[c] != 0, static_cast<int32_t>(c));
     }
     return curves;

@@ -233,29 +233,33 @@ CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
 
 bool CurveFrames::advance(uint32_t& segment, float& t, float dt) const {
     const uint32_t n = view_.segment_count;
-    t += dt;
-    while (t > 1.0f) {
-        if (segment + 1 < n) {
-            ++segment;
-        } else if (view_.closed) {
-            segment = 0;
-        } else {
-            t = std::min(t, 1.5f);
-            return false;
-        }
-        t -= 1.0f;
+    // A non-finite step (zero speed on a degenerate curve) would never end the walk below.
+    if (!std::isfinite(dt) || !std::isfinite(t)) return false;
+    if (t + dt >= 0.0f && t + dt <= 1.0f) {
+        t += dt;
+        return true;
     }
-    while (t < 0.0f) {
-        if (segment > 0) {
-            --segment;
-        } else if (view_.closed) {
-            segment = n - 1;
-        } else {
-            t = std::max(t, -0.5f);
-            return false;
-        }
-        t += 1.0f;
+    // Position along the whole curve in segments, in double so huge steps stay exact enough.
+    double position = double(segment) + double(t) + double(dt);
+    if (view_.closed) {
+        position = std::fmod(position, double(n));
+        if (position < 0) position += n;
+        segment = std::min(static_cast<uint32_t>(position), n - 1);
+        t = static_cast<float>(position - segment);
+        return true;
     }
+    if (position > double(n)) {  // past the end: extrapolate at most half a segment
+        segment = n - 1;
+        t = static_cast<float>(std::min(position - (n - 1), 1.5));
+        return false;
+    }
+    if (position < 0.0) {
+        segment = 0;
+        t = static_cast<float>(std::max(position, -0.5));
+        return false;
+    }
+    segment = std::min(static_cast<uint32_t>(position), n - 1);
+    t = static_cast<float>(position - segment);
     return true;
 }
 

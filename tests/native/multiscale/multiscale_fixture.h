@@ -57,8 +57,11 @@ struct StraightYarn {
     }
 
     MultiscaleQuery query(float y, float psi, float z, float width, MultiscaleMode mode, float u) const {
+        return query_at(tube_hit(y, psi, z), width, mode, u);
+    }
+    MultiscaleQuery query_at(const YarnTubeHit& tube, float width, MultiscaleMode mode, float u) const {
         MultiscaleQuery q;
-        q.tube = tube_hit(y, psi, z);
+        q.tube = tube;
         q.axis = project_to_centreline(frames, q.tube.point, q.tube.segment, q.tube.t);
         q.footprint = yarn_footprint(camera_ray(q.tube, width), q.tube.point, q.axis.point, 1.0f);
         q.mode = mode;
