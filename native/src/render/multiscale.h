@@ -6,10 +6,11 @@
 //
 // W(h) = 1 (box): h is uniform in projected width, so a box pixel sees every h of its
 // footprint equally; C = integral_{-1}^{1} W = 2 and C^ = h2 - h1. The integral is taken by K
-// stratified samples of h (one per `sample_spacing` fiber diameters covered, 1..max_h_samples),
-// jittered by one per-hit random number. For each h_k a virtual ray parallel to the camera
+// stratified samples of h (one per `sample_spacing` fiber diameters covered, 1..max_h_samples).
+// The stratum holding h0 uses the camera ray itself (h0 is uniform over the pixel); the others
+// are jittered by one per-hit random number, and for each a virtual ray parallel to the camera
 // ray, offset across the yarn, enters the tube and goes through the implicit ply and fiber
-// query (trace_yarn_hit); a ray between the plies passes straight through (pass_fraction).
+// query (trace_yarn_hit). A ray between the plies passes straight through (pass_fraction).
 //
 // Aggregation::Mixture (default) keeps each h_k's own frame, shading values and position:
 //   f~(wo, wi) |cos_ref| = sum_k w_k f_k(wo, wi) |cos_k|,   pdf = sum_k w_k pdf_k,
@@ -20,7 +21,8 @@
 // in the aggregated frame with G_multi (eq. 11), the mean G_p, N_i and ply colour.
 // Both use beta_multi = beta + (h2 - h1) / C_beta on the three specular roughnesses.
 //
-// Rays leave from one point: the hit nearest h0 (docs/multiscale.md).
+// Rays leave from one point: the camera ray's own ply hit, else the hit nearest h0
+// (docs/multiscale.md). The CurveFrames and maps must outlive the model.
 #pragma once
 #include <array>
 #include <atomic>
@@ -129,7 +131,7 @@ public:
 
     // Reference frame: +z = aggregated normal n_multi (eq. 9), +x = aggregated tangent (eq. 10).
     const Frame& frame() const { return frame_; }
-    Vec3 position() const { return position_; }  // m, the ply hit nearest h0: rays leave from here
+    Vec3 position() const { return position_; }  // m, the camera ray's ply hit (else the hit nearest h0): rays leave here
     uint32_t segment() const { return segment_; }  // centre-line parameter of position()
     float t() const { return t_; }
 
