@@ -150,10 +150,14 @@ float fiber_feature_width(const YarnDescription& d) {
 }
 
 int h_sample_count(float width, const YarnDescription& d, const MultiscaleSettings& s) {
-    const int most = static_cast<int>(clamp(s.max_h_samples, 1.0f, float(kMaxHSamples)));
+    // Odd, so that a cell centred on h0 tiles an unclamped footprint exactly.
+    int most = static_cast<int>(clamp(s.max_h_samples, 1.0f, float(kMaxHSamples - 1)));
+    if (most % 2 == 0) --most;
     const float per_sample = std::max(s.sample_spacing, 1e-3f) * fiber_feature_width(d);
     const float k = std::ceil(std::max(width, 0.0f) / per_sample);
-    return k >= most ? most : std::max(1, static_cast<int>(k));  // also NaN -> 1 via max
+    if (!(k < float(most))) return most;  // also NaN
+    const int n = std::max(1, static_cast<int>(k));
+    return n % 2 ? n : n + 1;
 }
 
 MultiscaleSelector::MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink)
@@ -204,7 +208,8 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     h1_ = mode_ == MultiscaleMode::Far ? -1.0f : (mode_ == MultiscaleMode::Near ? fp.h0 : fp.h1);
     h2_ = mode_ == MultiscaleMode::Far ? 1.0f : (mode_ == MultiscaleMode::Near ? fp.h0 : fp.h2);
     const float width = h2_ - h1_;
-    samples_ = mode_ == MultiscaleMode::Near ? 1 : h_sample_count(width, desc, settings);
+    const int k_count = mode_ == MultiscaleMode::Near ? 1 : h_sample_count(width, desc, settings);
+    samples_ = 0;
     roughness_increase_ = mode_ == MultiscaleMode::Near ? 0.0f : width / std::max(settings.roughness_c, 1e-6f);
 
     BysdfParams params = *yarn.params;
@@ -212,33 +217,45 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     params.specular_roughness_across += roughness_increase_;
     params.transmission_roughness += roughness_increase_;
 
-    // Trace the h samples; keep the hits. The stratum holding h0 takes the camera ray itself:
-    // h0 is uniform over the pixel, so that sample is as random as a jittered one, it costs
-    // no virtual ray, and rays leave from where the near field would leave.
+    // The h samples: cells of width/K on a grid centred on h0, clipped to [h1, h2] (K odd:
+    // K cells, one more when the footprint is clamped at a silhouette), each weighted by its
+    // length. h0's own cell takes the camera ray itself: h0 is uniform over the pixel, so that
+    // sample is as random as a jittered one, costs no virtual ray, keeps the footprint's
+    // filter symmetric, and rays leave from where the near field would leave. The other
+    // cells are jittered by the per-hit random number.
     const float h_main = dot(q.tube.origin - axis.position, fp.across) / radius;
-    const int own = width > 0 ? std::min(samples_ - 1, std::max(0, static_cast<int>((fp.h0 - h1_) / width * samples_))) : 0;
+    const float cell = width > 0 ? width / float(k_count) : 1.0f;
+    const int j_lo = width > 0 ? static_cast<int>(std::floor((h1_ - fp.h0) / cell + 0.5f)) : 0;
+    const int j_hi = width > 0 ? static_cast<int>(std::ceil((h2_ - fp.h0) / cell - 0.5f)) : 0;
     YarnShadingPoint hits[kMaxHSamples];
-    float hit_h[kMaxHSamples];
+    float hit_h[kMaxHSamples], hit_len[kMaxHSamples];
     int hit_count = 0, nearest = -1;
     bool own_hit = false;
+    float hit_length = 0, total_length = 0;
     float u = q.u_strata - std::floor(q.u_strata);
-    for (int k = 0; k < samples_; ++k) {
+    for (int j = j_lo; j <= j_hi && samples_ < kMaxHSamples; ++j) {
+        const float lo = std::max(h1_, fp.h0 + (j - 0.5f) * cell), hi = std::min(h2_, fp.h0 + (j + 0.5f) * cell);
+        const float len = width > 0 ? hi - lo : 1.0f;
+        if (!(len > 1e-6f * std::max(width, 1e-6f))) continue;
         float h = fp.h0;
-        if (k != own) {
-            const float jitter = u - std::floor(u);
-            h = h1_ + (k + jitter) * (width / samples_);
-            u += kGolden;  // each stratum's jitter is uniform on its own
+        if (j != 0) {
+            h = lo + (u - std::floor(u)) * len;
+            u += kGolden;  // each cell's jitter is uniform on its own
         }
-        const YarnTubeHit tube = k == own ? q.tube : virtual_hit(frames, q, h - h_main);
+        ++samples_;
+        total_length += len;
+        const YarnTubeHit tube = j == 0 ? q.tube : virtual_hit(frames, q, h - h_main);
         const YarnShadingPoint y = trace_yarn_hit(frames, desc, *yarn.maps, tube, yarn.curve_key, yarn.trace);
         if (!y.hit) continue;
-        if (k == own) own_hit = true;
-        if (k == own || (!own_hit && (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0))))
+        if (j == 0) own_hit = true;
+        if (j == 0 || (!own_hit && (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0))))
             nearest = hit_count;
         hit_h[hit_count] = h;
+        hit_len[hit_count] = len;
+        hit_length += len;
         hits[hit_count++] = y;
     }
-    pass_fraction_ = 1.0f - float(hit_count) / float(samples_);
+    pass_fraction_ = total_length > 0 ? clamp(1.0f - hit_length / total_length, 0.0f, 1.0f) : 1.0f;
     frames_ = &frames;
     entry_ = q.tube;
     axis_segment_ = q.axis.segment;
@@ -249,7 +266,6 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     position_ = rep.position;
     segment_ = rep.segment;
     t_ = rep.t;
-    const float w = 1.0f / float(hit_count);
 
     // Aggregated frame and shading values (eqs. 9-11). The BYSDF is two-sided and symmetric
     // in its tangent's sign, so normals face the viewer and tangents follow the yarn first.
@@ -258,6 +274,7 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     float gf = 0, gp = 0, crossed = 0;
     for (int k = 0; k < hit_count; ++k) {
         const YarnShadingPoint& y = hits[k];
+        const float w = hit_len[k] / hit_length;
         n_sum += (dot(y.fiber_normal, view) >= 0 ? y.fiber_normal : -y.fiber_normal) * w;
         t_sum += (dot(y.fiber_tangent, axis.tangent) >= 0 ? y.fiber_tangent : -y.fiber_tangent) * w;
         gf += y.fiber_shadowing * w;
@@ -302,7 +319,7 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
         c.frame.n = frame_.to_local(f.n);
         c.offset = frame_.to_local(y.position - axis.position) / radius;
         c.h = hit_h[k];
-        c.weight = w;
+        c.weight = hit_len[k] / hit_length;
     }
     count_ = hit_count;
     same_frame_ = single;

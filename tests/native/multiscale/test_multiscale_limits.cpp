@@ -95,37 +95,41 @@ TEST(MultiscaleLimits, TinyFootprintIsTheNearFieldAtH0) {
     EXPECT_EQ(compared, 24);
 }
 
-TEST(MultiscaleLimits, FootprintMeanIsItsStrataMeans) {
-    // For a fixed camera ray the model's mean over its random number is (f(h0) + sum of the
-    // other strata's near-field means) / K; it moves toward f_near(h0) as the footprint shrinks.
+TEST(MultiscaleLimits, FootprintMeanIsItsCellMeans) {
+    // For a fixed camera ray the model's mean over its random number is the length-weighted
+    // sum of f(h0) (h0's own cell) and the other cells' near-field means, on a grid of K cells
+    // centred on h0; it moves toward f_near(h0) as the footprint shrinks. Off-centre: a
+    // footprint clamped at the silhouette.
     const StraightYarn s;
     const Vec3 wo = -StraightYarn::direction(0.0f);
     const std::vector<Vec3> wis = light_directions(0.0f);
-    const float y = 0.3f;
     std::vector<double> to_h0;
-    for (float width : {0.6f, 0.3f, 0.15f}) {
+    for (auto [y, width] : {std::pair{0.3f, 0.6f}, std::pair{0.3f, 0.3f}, std::pair{0.3f, 0.15f}, std::pair{-0.85f, 0.6f}}) {
         const MultiscaleQuery q = s.query(y, 0.0f, kZ, width, MultiscaleMode::Multi, 0.5f);
-        const int k_count = h_sample_count(q.footprint.width(), s.description, s.settings);
-        ASSERT_GE(k_count, 2);
-        const float h1 = q.footprint.h1, step = q.footprint.width() / k_count;
-        const int own = std::min(k_count - 1, static_cast<int>((q.footprint.h0 - h1) / step));
-        const float rough = q.footprint.width() / s.settings.roughness_c;
+        const AzimuthalFootprint& f = q.footprint;
+        const int k_count = h_sample_count(f.width(), s.description, s.settings);
+        ASSERT_GE(k_count, 3);
+        ASSERT_EQ(k_count % 2, 1);
+        const float cell = f.width() / k_count, rough = f.width() / s.settings.roughness_c;
         std::vector<Vec3> expected(wis.size(), Vec3(0.0f)), h0(wis.size());
-        for (size_t j = 0; j < wis.size(); ++j) {
-            h0[j] = near_field_integrand(s, q.tube, wo, wis[j], rough);
-            expected[j] = h0[j] / float(k_count);
-        }
-        for (int k = 0; k < k_count; ++k) {
-            if (k == own) continue;
-            const std::vector<Vec3> mean = quadrature(s, q, y, 0.0f, h1 + k * step, h1 + (k + 1) * step, rough, wo, wis, 2048);
-            for (size_t j = 0; j < wis.size(); ++j) expected[j] += mean[j] / float(k_count);
+        for (size_t j = 0; j < wis.size(); ++j) h0[j] = near_field_integrand(s, q.tube, wo, wis[j], rough);
+        int cells = 0;
+        for (int j = -k_count; j <= k_count; ++j) {
+            const float lo = std::max(f.h1, f.h0 + (j - 0.5f) * cell), hi = std::min(f.h2, f.h0 + (j + 0.5f) * cell);
+            if (hi - lo < 1e-6f) continue;
+            ++cells;
+            const float w = (hi - lo) / f.width();
+            const std::vector<Vec3> mean = j == 0 ? h0 : quadrature(s, q, y, 0.0f, lo, hi, rough, wo, wis, 2048);
+            for (size_t k = 0; k < wis.size(); ++k) expected[k] += mean[k] * w;
         }
         const std::vector<Vec3> model = model_mean(s, y, 0.0f, width, MultiscaleMode::Multi, wo, wis, 1024);
         const double gap = worst_gap(model, expected);
-        to_h0.push_back(worst_gap(model, h0));
-        std::printf("footprint %.2f (K %d): |E f_multi - strata means| %.2e, |E f_multi - f_near(h0)| %.2e (of the largest value)\n",
-                    width, k_count, gap, to_h0.back());
+        if (y > 0) to_h0.push_back(worst_gap(model, h0));
+        std::printf("footprint %.2f at h0 %+.2f (K %d, %d cells): |E f_multi - cell means| %.2e of the largest value\n",
+                    width, f.h0, k_count, cells, gap);
+        if (y > 0) std::printf("    |E f_multi - f_near(h0)| %.2e\n", to_h0.back());
         EXPECT_LT(gap, 0.01) << width;
+        EXPECT_EQ(cells, f.h1 > -1 && f.h2 < 1 ? k_count : k_count + 1);
     }
     EXPECT_LT(to_h0.back(), to_h0.front());
 }

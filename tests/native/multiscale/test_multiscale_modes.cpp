@@ -59,16 +59,18 @@ TEST(MultiscaleModes, SampleCountFollowsTheCoveredRange) {
     const YarnDescription d = default_yarn_description();
     const MultiscaleSettings s = default_multiscale_settings();
     const float fiber = fiber_feature_width(d);
+    // One per fiber diameter, rounded up to odd (a cell centred on h0), at most 15.
     EXPECT_EQ(h_sample_count(0.0f, d, s), 1);
     EXPECT_EQ(h_sample_count(0.5f * fiber, d, s), 1);
-    EXPECT_EQ(h_sample_count(3.5f * fiber, d, s), 4);
-    EXPECT_EQ(h_sample_count(2.0f, d, s), 16);
-    EXPECT_EQ(h_sample_count(std::nanf(""), d, s), 1);
+    EXPECT_EQ(h_sample_count(2.5f * fiber, d, s), 3);
+    EXPECT_EQ(h_sample_count(3.5f * fiber, d, s), 5);
+    EXPECT_EQ(h_sample_count(2.0f, d, s), 15);
+    EXPECT_EQ(h_sample_count(std::nanf(""), d, s), 15);
     MultiscaleSettings few = s;
-    few.max_h_samples = 5;
+    few.max_h_samples = 6;
     EXPECT_EQ(h_sample_count(2.0f, d, few), 5);
     few.sample_spacing = 2;
-    EXPECT_EQ(h_sample_count(3.5f * fiber, d, few), 2);
+    EXPECT_EQ(h_sample_count(3.5f * fiber, d, few), 3);
 }
 
 TEST(MultiscaleModes, SettingsTableAndNames) {
@@ -109,11 +111,16 @@ TEST(MultiscaleModes, RoughnessGrowsWithTheCoveredRange) {
     EXPECT_EQ(far.h1(), -1.0f);
     EXPECT_EQ(far.h2(), 1.0f);
     EXPECT_NEAR(far.roughness_increase(), 2.0f / s.settings.roughness_c, 1e-6f);
-    // The h samples are stratified: one per stratum of the covered range.
+    // Cells clipped to [-1, 1]: K or K + 1 of them; weights are their lengths.
+    EXPECT_GE(far.samples(), 15);
+    EXPECT_LE(far.samples(), 16);
+    float weights = 0;
     for (int k = 0; k < far.components(); ++k) {
         EXPECT_GE(far.component(k).h, -1.0f);
         EXPECT_LE(far.component(k).h, 1.0f);
+        weights += far.component(k).weight;
     }
+    EXPECT_NEAR(weights, 1.0f, 1e-5f);
 }
 
 TEST(MultiscaleModes, PassThroughBetweenPlies) {
