@@ -12,9 +12,9 @@ bl_info = {
     "category": "Render",
 }
 
-from . import engine, presets, properties, scripting, ui  # noqa: E402  (bl_info comes first)
+from . import cycles_setup, engine, fit, presets, properties, scripting, ui  # noqa: E402  (bl_info comes first)
 
-_modules = (properties, engine, presets, scripting, ui)
+_modules = (properties, engine, presets, fit, scripting, cycles_setup, ui)
 
 
 def register():

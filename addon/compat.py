@@ -1,5 +1,6 @@
 """The few places where Blender 3.4, 4.5 and 5.0 differ in the API this add-on uses."""
 import bpy
+import numpy as np
 
 NODES_ALWAYS_ON = bpy.app.version >= (5, 0, 0)  # 5.0 deprecates use_nodes: node trees are always used
 
@@ -33,3 +34,12 @@ def set_image_format(image_settings, file_format):
     if _has_media_type(image_settings):
         image_settings.media_type = "IMAGE"
     image_settings.file_format = file_format
+
+
+def set_pass_pixels(render_pass, pixels):
+    """Fills a RenderPass from a float32 (H, W, C) array whose rows run bottom to top, as Blender's do.
+    4.x takes the flat array through foreach_set; 3.4 only takes a (pixels, channels) sequence."""
+    try:
+        render_pass.rect.foreach_set(np.ascontiguousarray(pixels, dtype=np.float32).ravel())
+    except (TypeError, ValueError, RuntimeError, AttributeError):
+        render_pass.rect = pixels.reshape(-1, pixels.shape[-1])

@@ -11,7 +11,8 @@ import traceback
 
 import bpy
 
-from . import native
+from . import composite, native
+from .compat import set_pass_pixels
 from .export import export_scene
 
 POLL_SECONDS = 0.05          # progress / cancel polling period
@@ -60,25 +61,73 @@ class PurlRenderEngine(bpy.types.RenderEngine):
                 self.report({level}, "Purl: " + message)
             if not exported.renderable:
                 return
-            base_dir = bpy.path.abspath("//") if bpy.data.filepath else ""
+            cycles = None
+            if scene.purl.use_cycles_composite:
+                composite.prepare_purl_scene(exported)
+                self.update_stats("", "Purl | starting Cycles for the rest of the scene")
+                cycles = composite.CyclesHalf(scene, layer_name, exported.yarn_objects, temp_dir)
             try:
-                job = core.RenderJob(exported.scene, exported.arrays, base_dir)
-            except core.Error as error:
-                self.report({"ERROR"}, "Purl: {}".format(error))
-                return
-            if not self._run(job, exported.stats, scene.purl.samples):
-                return
-            exr_path = os.path.join(temp_dir, "purl.exr")
-            job.write(exr_path, None, layer_name)
-            result = self.begin_result(0, 0, width, height, layer=layer_name)
-            try:
-                result.load_from_file(exr_path)
+                self._render_purl(core, exported, scene, layer_name, (width, height), temp_dir, cycles)
             finally:
-                self.end_result(result)
+                if cycles is not None:
+                    cycles.cancel()  # no-op once it has finished
         finally:
             shutil.rmtree(temp_dir, ignore_errors=True)
             if type(self).last_export is not None and not self.keep_last_arrays:
                 type(self).last_export.arrays = {}  # don't hold the yarn arrays between renders
+
+    def _render_purl(self, core, exported, scene, layer_name, size, temp_dir, cycles):
+        """Renders Purl's half and loads the result; with `cycles`, composites over its image."""
+        width, height = size
+        base_dir = bpy.path.abspath("//") if bpy.data.filepath else ""
+        try:
+            job = core.RenderJob(exported.scene, exported.arrays, base_dir)
+        except core.Error as error:
+            self.report({"ERROR"}, "Purl: {}".format(error))
+            return
+        if not self._run(job, exported.stats, scene.purl.samples):
+            return
+        if cycles is not None:
+            if not self._wait_for_cycles(cycles):
+                return
+            try:
+                rgba, depth = cycles.read(layer_name)
+                passes = composite.composite(job.passes(), rgba, depth)
+            except (composite.CompositeError, ValueError, OSError) as error:
+                self.report({"ERROR"}, "Purl composite: {}".format(error))
+                return
+            self._load_passes(passes, width, height, layer_name)
+            return
+        exr_path = os.path.join(temp_dir, "purl.exr")
+        job.write(exr_path, None, layer_name)
+        result = self.begin_result(0, 0, width, height, layer=layer_name)
+        try:
+            result.load_from_file(exr_path)
+        finally:
+            self.end_result(result)
+
+    def _load_passes(self, passes, width, height, layer_name):
+        """Writes numpy passes (rows top to bottom) into the render result."""
+        result = self.begin_result(0, 0, width, height, layer=layer_name)
+        try:
+            layer = result.layers[0]
+            for render_pass in layer.passes:
+                pixels = passes.get(render_pass.name)
+                if pixels is not None and pixels.shape[-1] == render_pass.channels:
+                    set_pass_pixels(render_pass, pixels[::-1])  # Blender's rows run bottom to top
+        finally:
+            self.end_result(result)
+
+    def _wait_for_cycles(self, cycles):
+        """Polls the Cycles child until it ends; False when the user cancelled."""
+        start = time.monotonic()
+        while not cycles.done():
+            self.update_stats("", "Purl | waiting for Cycles | {:.1f} s".format(time.monotonic() - start))
+            if self._user_cancelled():
+                cycles.cancel()
+                return False
+            time.sleep(POLL_SECONDS)
+        return True
 
     def _result_size(self, scene):
         render = scene.render

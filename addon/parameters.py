@@ -6,6 +6,9 @@ them from here, so the native declaration stays the only place they are written 
 from . import native
 
 _tables = None  # model name -> list of parameter dicts
+_yarn_geometry = None  # the bysdf model's yarn geometry parameters (material.yarn)
+
+YARN_GEOMETRY_MODELS = {"bysdf"}  # models that read material.yarn
 
 
 def tables():
@@ -17,6 +20,17 @@ def tables():
             return {}
         _tables = {model: list(core.material_parameters(model)) for model in core.material_models()}
     return _tables
+
+
+def yarn_geometry():
+    """[{name, unit, components, min, max, default, doc, is_color, is_integer}] of material.yarn."""
+    global _yarn_geometry
+    if _yarn_geometry is None:
+        core = native.purlcore()
+        if core is None or not hasattr(core, "yarn_parameters"):
+            return []
+        _yarn_geometry = list(core.yarn_parameters())
+    return _yarn_geometry
 
 
 def models():

@@ -71,21 +71,13 @@ def read_preset(path):
     return preset
 
 
-def apply_preset(material, preset):
-    """Sets the material's Purl settings from a preset; returns a list of warnings."""
-    warnings = []
-    settings = material.purl
-    values = dict(preset["material"])
-    model = values.pop("model", settings.model)
-    if model not in parameters.models():
-        return ["model '{}' is not known to this version of Purl".format(model)]
-    settings.model = model
-    target = getattr(settings, "params_" + model)
-    declared = {p["name"]: p for p in parameters.parameters(model)}
+def _apply_values(target, declarations, values, warnings, place=""):
+    """Sets each declared value on a property group, with warnings for unknown keys and bad values."""
+    declared = {p["name"]: p for p in declarations}
     for key, value in values.items():
         parameter = declared.get(key)
         if parameter is None:
-            warnings.append("unknown parameter '{}' ignored".format(key))
+            warnings.append("unknown parameter '{}{}' ignored".format(place, key))
             continue
         try:
             if properties.is_count(parameter):
@@ -97,13 +89,33 @@ def apply_preset(material, preset):
                 if len(value) != parameter["components"]:
                     raise ValueError
         except (TypeError, ValueError):
-            warnings.append("'{}' needs {} number(s)".format(key, parameter["components"]))
+            warnings.append("'{}{}' needs {} number(s)".format(place, key, parameter["components"]))
             continue
         low, high = parameter["min"], parameter["max"]
         scalars = [value] if parameter["components"] == 1 else value
         if any(v < low or v > high for v in scalars):
-            warnings.append("'{}' is outside [{}, {}] and was clamped".format(key, low, high))
+            warnings.append("'{}{}' is outside [{}, {}] and was clamped".format(place, key, low, high))
         setattr(target, key, value)
+
+
+def apply_preset(material, preset):
+    """Sets the material's Purl settings from a preset; returns a list of warnings."""
+    warnings = []
+    settings = material.purl
+    values = dict(preset["material"])
+    model = values.pop("model", settings.model)
+    if model not in parameters.models():
+        return ["model '{}' is not known to this version of Purl".format(model)]
+    settings.model = model
+    geometry = values.pop("yarn", None)
+    _apply_values(getattr(settings, "params_" + model), parameters.parameters(model), values, warnings)
+    if isinstance(geometry, dict) and model in parameters.YARN_GEOMETRY_MODELS:
+        if "preset" in geometry:
+            warnings.append("yarn presets are not read in Blender; give the yarn values instead")
+            geometry = {k: v for k, v in geometry.items() if k != "preset"}
+        _apply_values(settings.yarn_geometry, parameters.yarn_geometry(), geometry, warnings, "yarn.")
+    elif geometry is not None:
+        warnings.append("'yarn' is ignored for model '{}'".format(model))
     extra = preset.get("blender") or {}
     if "mode" in extra:
         if extra["mode"] in {item[0] for item in properties.MODE_ITEMS}:
@@ -122,6 +134,9 @@ def preset_from_material(material, name, description=""):
     for parameter in parameters.parameters(settings.model):
         result_material[parameter["name"]] = parameters.value_for_export(
             parameter, getattr(values, parameter["name"]))
+    if settings.model in parameters.YARN_GEOMETRY_MODELS and parameters.yarn_geometry():
+        result_material["yarn"] = {p["name"]: parameters.value_for_export(p, getattr(settings.yarn_geometry, p["name"]))
+                                   for p in parameters.yarn_geometry()}
     return {"name": name, "description": description,
             "source": "saved from Blender material '{}'".format(material.name),
             "material": result_material,

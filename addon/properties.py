@@ -37,7 +37,10 @@ def _tooltip(parameter):
 
 
 def is_count(parameter):
-    """Native parameters are all floats; a scalar "..._count" with whole bounds is shown as an integer."""
+    """Native parameters are stored as floats; those declared whole numbers (is_integer) are shown
+    as integers. Modules built before the flag existed: a scalar "..._count" with whole bounds."""
+    if "is_integer" in parameter:
+        return bool(parameter["is_integer"]) and int(parameter["components"]) == 1
     return (parameter["name"].endswith("_count") and int(parameter["components"]) == 1
             and float(parameter["min"]).is_integer() and float(parameter["max"]).is_integer())
 
@@ -63,9 +66,13 @@ def make_property(parameter):
     return FloatVectorProperty(size=components, default=values, subtype=subtype, **common)
 
 
+def _params_class(name, declarations):
+    annotations = {p["name"]: make_property(p) for p in declarations}
+    return type(name, (bpy.types.PropertyGroup,), {"__annotations__": annotations})
+
+
 def _model_params_class(model):
-    annotations = {p["name"]: make_property(p) for p in parameters.parameters(model)}
-    return type("PURL_PG_params_" + model, (bpy.types.PropertyGroup,), {"__annotations__": annotations})
+    return _params_class("PURL_PG_params_" + model, parameters.parameters(model))
 
 
 # EnumProperty items must stay referenced while Blender uses them.
@@ -97,6 +104,12 @@ class PurlSceneSettings(bpy.types.PropertyGroup):
                            max=1024)
     clamp: FloatProperty(name="Clamp", description="Clamp sample radiance (0 turns clamping off)",
                          default=0.0, min=0.0)
+    use_cycles_composite: BoolProperty(
+        name="Composite with Cycles", default=False,
+        description="Cycles renders the rest of the scene (yarns hidden from its camera but casting "
+                    "shadows), Purl the yarns with meshes as holdouts, and the two are laid over each other")
+    cycles_samples: IntProperty(name="Cycles Samples", default=64, min=1, soft_max=4096,
+                                description="Samples per pixel of the Cycles half of a composite render")
 
 
 _classes = []
@@ -109,6 +122,7 @@ def register():
     _model_items = [(m, m.replace("_", " ").title(), "Yarn scattering model '{}'".format(m))
                     for m in models] or [("placeholder", "Placeholder", "purlcore is not loaded")]
     model_classes = [_model_params_class(m) for m in models]
+    geometry_class = _params_class("PURL_PG_yarn_geometry", parameters.yarn_geometry())
     annotations = {
         "model": StringProperty(name="Model", default=_model_items[0][0]),
         "model_choice": EnumProperty(name="Model", description="Yarn scattering model",
@@ -121,8 +135,9 @@ def register():
     }
     for model, cls in zip(models, model_classes):
         annotations["params_" + model] = PointerProperty(type=cls)
+    annotations["yarn_geometry"] = PointerProperty(type=geometry_class)
     material_class = type("PURL_PG_material", (bpy.types.PropertyGroup,), {"__annotations__": annotations})
-    _classes[:] = model_classes + [PurlSceneSettings, material_class]
+    _classes[:] = model_classes + [geometry_class, PurlSceneSettings, material_class]
     for cls in _classes:
         bpy.utils.register_class(cls)
     bpy.types.Material.purl = PointerProperty(type=material_class)

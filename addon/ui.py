@@ -47,6 +47,9 @@ class PURL_PT_render(PurlPanel, bpy.types.Panel):
         layout.prop(settings, "max_depth")
         layout.prop(settings, "clamp")
         layout.prop(context.scene.render, "film_transparent")
+        layout.prop(settings, "use_cycles_composite")
+        if settings.use_cycles_composite:
+            layout.prop(settings, "cycles_samples")
 
 
 class PURL_PT_material(PurlPanel, bpy.types.Panel):
@@ -65,6 +68,8 @@ class PURL_PT_material(PurlPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.menu(PURL_MT_presets.bl_idname, text="Presets", icon="PRESET")
         row.operator(PURL_OT_preset_save.bl_idname, text="", icon="ADD")
+        if settings.model == "bysdf":
+            row.operator("purl.fit_to_image", text="", icon="IMAGE_DATA")  # addon/fit.py
         layout.use_property_split = True
         layout.prop(settings, "model_choice")
         layout.prop(settings, "mode")
@@ -77,6 +82,8 @@ class PURL_PT_material(PurlPanel, bpy.types.Panel):
             if not parameters.is_ply_color(parameter):
                 column.prop(values, parameter["name"])
         layout.prop(settings, "color_attribute", icon="GROUP_VCOL")
+        # Same settings in Cycles through the OSL shader (cycles_setup.py, docs/osl.md).
+        layout.operator("purl.setup_cycles", icon="NODE_MATERIAL")
 
 
 COUNT = parameters.PLY_COLOR_PREFIX + "count"
@@ -107,6 +114,25 @@ class PURL_PT_material_plies(PurlPanel, bpy.types.Panel):
             name = parameters.PLY_COLOR_PREFIX + str(index)
             if name in names:
                 grid.prop(values, name, text="")
+
+
+class PURL_PT_material_geometry(PurlPanel, bpy.types.Panel):
+    bl_label = "Yarn Geometry"
+    bl_context = "material"
+    bl_parent_id = "PURL_PT_material"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return (PURL_PT_material.poll(context) and context.material.purl.model in parameters.YARN_GEOMETRY_MODELS
+                and bool(parameters.yarn_geometry()))
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        geometry = context.material.purl.yarn_geometry
+        for parameter in parameters.yarn_geometry():
+            layout.prop(geometry, parameter["name"])
 
 
 class PURL_PT_light(PurlPanel, bpy.types.Panel):
@@ -169,7 +195,8 @@ class PURL_PT_world(PurlPanel, bpy.types.Panel):
                 layout.prop(socket, "default_value", text=socket.name)
 
 
-classes = (PURL_PT_render, PURL_PT_material, PURL_PT_material_plies, PURL_PT_light, PURL_PT_world)
+classes = (PURL_PT_render, PURL_PT_material, PURL_PT_material_plies, PURL_PT_material_geometry,
+           PURL_PT_light, PURL_PT_world)
 
 # Blender's own panels that make sense for Purl: output, camera, object data, hair particles,
 # physics (cloth simulations drive yarns). Light panels are left out: PURL_PT_light shows what

@@ -18,4 +18,4 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-python3 -m pip install -q --disable-pip-version-check numpy pytest matplotlib >/dev/null
+python3 -m pip install -q --disable-pip-version-check numpy "pybind11>=2.12" pytest matplotlib flip-evaluator >/dev/null

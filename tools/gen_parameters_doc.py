@@ -39,6 +39,13 @@ def render_markdown(purlcore):
         "Presets: " + ", ".join(f"`{n}`" for n in purlcore.yarn_presets()) + ".",
         "",
     ] + table(purlcore.yarn_parameters())
+    lines += [
+        "## Multi-scale shading (`render.multiscale`)",
+        "",
+        "Also `mode` (" + ", ".join(f"`{m}`" for m in purlcore.multiscale_modes()) + "; default `auto`) and "
+        "`aggregation` (`mixture`, default, or `aggregate`). See docs/multiscale.md.",
+        "",
+    ] + table(purlcore.multiscale_parameters())
     return "\n".join(lines)
 
 

@@ -20,6 +20,7 @@ class Export:
     arrays: dict                    # name -> yarn or mesh arrays referenced by the scene
     problems: Problems
     stats: dict = field(default_factory=dict)
+    yarn_objects: set = field(default_factory=set)  # names of the objects rendered as yarn
 
     @property
     def renderable(self):
@@ -70,7 +71,7 @@ def collect_yarns(depsgraph, problems):
         if not instance.show_self:
             continue
         if ob.type == "CURVES":
-            found += _guarded(problems, ob, yarns.hair_curves, ob, matrix)
+            found += _guarded(problems, ob, yarns.hair_curves, ob, matrix, problems)
         elif ob.type == "CURVE":
             found += _guarded(problems, ob, yarns.curve_object, ob, matrix, problems)
     return [y for y in (yarns.checked(y, problems) for y in found) if y is not None]
@@ -93,7 +94,8 @@ def export_scene(depsgraph, size=None, temp_dir=None):
     result["world"] = world.export_world(scene.world, problems, temp_dir)
 
     yarn_sets, stats = [], {"curves": 0, "points": 0, "triangles": 0, "lights": 0}
-    for index, yarn in enumerate(collect_yarns(depsgraph, problems)):
+    found_yarns = collect_yarns(depsgraph, problems)
+    for index, yarn in enumerate(found_yarns):
         key = "yarn{}".format(index)
         arrays[key] = yarn.arrays()
         yarn_sets.append({"name": yarn.name, "arrays": key, "id": index + 1,
@@ -129,4 +131,4 @@ def export_scene(depsgraph, size=None, temp_dir=None):
     result["meshes"] = mesh_sets
     if not yarn_sets and not mesh_sets:
         problems.error(scene.name, "nothing to render: no yarn curves and no meshes are visible")
-    return Export(result, arrays, problems, stats)
+    return Export(result, arrays, problems, stats, {y.source for y in found_yarns if y.source})

@@ -1,6 +1,7 @@
 """Point, spot, sun and area lights with Cycles' radiometry (power in W, sun in W/m^2)."""
 import math
 
+import bpy
 import numpy as np
 
 from .transforms import split_scale
@@ -18,6 +19,11 @@ def _light_area(light, scale):
         return 4.0 * math.pi * radius * radius if radius > 0.0 else 4.0
     half = light.angle / 2.0
     return math.pi * math.sin(half) ** 2 if half > 0.0 else 1.0
+
+
+# Cycles 4.x emits an area light's power as radiance P / (pi A); 3.x (and Purl's scene format)
+# as P / (4 A). Measured: the same plane is 4/pi brighter under Cycles 4.5 than under 3.4.
+AREA_POWER_FACTOR = 4.0 / math.pi if bpy.app.version >= (4, 0, 0) else 1.0
 
 
 def export_light(ob, matrix_world, problems):
@@ -45,6 +51,7 @@ def export_light(ob, matrix_world, problems):
     if light.type == "SPOT":
         result.update(spot_size=float(light.spot_size), spot_blend=float(light.spot_blend))
     if light.type == "AREA":
+        result["power"] *= AREA_POWER_FACTOR
         # Cycles scales an area light's size by the object's scale; an unevenly scaled square
         # or disk becomes a rectangle or ellipse.
         shape = light.shape

@@ -19,4 +19,8 @@ def yarn_material(material, problems):
         return result
     for parameter in parameters.parameters(model):
         result[parameter["name"]] = parameters.value_for_export(parameter, getattr(values, parameter["name"]))
+    geometry = parameters.yarn_geometry() if model in parameters.YARN_GEOMETRY_MODELS else []
+    if geometry:
+        result["yarn"] = {p["name"]: parameters.value_for_export(p, getattr(settings.yarn_geometry, p["name"]))
+                          for p in geometry}
     return result

@@ -69,6 +69,11 @@ def export_world(world, problems, temp_dir=None):
     elif texture.bl_idname == "ShaderNodeTexEnvironment" and texture.image is not None:
         if texture.projection != "EQUIRECTANGULAR":
             problems.warning(world.name, "only equirectangular environment textures are supported")
+        colorspace = texture.image.colorspace_settings.name
+        if not any(word in colorspace for word in ("Linear", "Non-Color", "Raw")):
+            problems.warning(world.name, "the environment image '{}' is tagged {}; Purl reads its values "
+                             "as linear (Cycles decodes them), so tag it linear or expect a different "
+                             "brightness".format(texture.image.name, colorspace))
         path = _image_path(texture.image, problems, temp_dir)
         result["color"] = [1.0, 1.0, 1.0]
         if path is not None:

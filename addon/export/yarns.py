@@ -11,6 +11,7 @@ import numpy as np
 from .transforms import to_numpy, transform_points, uniform_scale
 
 HAIR_DEFAULT_RADIUS = 0.005  # what Cycles uses when a Curves object has no radius attribute
+DEFAULT_COLOR_ATTRIBUTE = "purl_color"  # read when the material names no colour attribute
 # Fewest points a curve of each basis needs (closed B-splines need 3; they are wrapped natively).
 MIN_POINTS = {"bspline": 4, "catmull_rom": 4, "bezier": 4, "polyline": 2}
 
@@ -24,6 +25,8 @@ class YarnCurves:
     offsets: np.ndarray   # int32 (C + 1,): curve c is points[offsets[c]:offsets[c+1]]
     closed: np.ndarray    # bool (C,)
     material: object      # bpy.types.Material or None
+    source: str = ""      # the original object's name (composite mode hides it from Cycles' camera)
+    colors: np.ndarray = None  # float32 (C, 3) linear RGB per curve, or None
 
     @property
     def curve_count(self):
@@ -31,8 +34,11 @@ class YarnCurves:
 
     def arrays(self):
         """The dict purlcore.RenderJob expects for one named array set."""
-        return {"points": self.points, "radii": self.radii, "offsets": self.offsets,
-                "closed": self.closed, "basis": self.basis}
+        arrays = {"points": self.points, "radii": self.radii, "offsets": self.offsets,
+                  "closed": self.closed, "basis": self.basis}
+        if self.colors is not None:
+            arrays["curve_colors"] = self.colors
+        return arrays
 
 
 def repeat_end_points(points, radii, offsets):
@@ -45,6 +51,10 @@ def repeat_end_points(points, radii, offsets):
     local = np.arange(new_offsets[-1]) - new_offsets[:-1][curve]
     source = offsets[:-1][curve] + np.clip(local - 1, 0, counts[curve] - 1)
     return points[source], radii[source], new_offsets
+
+
+def _original_name(ob):
+    return ob.original.name if getattr(ob, "original", None) is not None else ob.name
 
 
 def _first_material(ob):
@@ -62,7 +72,42 @@ def _slot_material(ob, index):
 
 # --- hair Curves (Blender 3.3+) -------------------------------------------------------------
 
-def hair_curves(ob, matrix_world):
+def color_attribute_name(material):
+    """The colour attribute named on the yarn material, or the default name."""
+    settings = getattr(material, "purl", None) if material is not None else None
+    name = getattr(settings, "color_attribute", "") if settings is not None else ""
+    return name or DEFAULT_COLOR_ATTRIBUTE
+
+
+_COLOR_TYPES = {"FLOAT_COLOR": ("color", 4), "BYTE_COLOR": ("color", 4), "FLOAT_VECTOR": ("vector", 3)}
+
+
+def curve_colors(ob, data, offsets, problems, name):
+    """float32 (n_curves, 3) linear RGB from a CURVE-domain colour attribute, or a POINT-domain one
+    averaged over each curve's points; None when the object has no such attribute."""
+    attribute = data.attributes.get(name)
+    if attribute is None:
+        if name != DEFAULT_COLOR_ATTRIBUTE and problems is not None:
+            problems.warning(ob.name, "has no colour attribute '{}'; the material's colours are used".format(name))
+        return None
+    kind = _COLOR_TYPES.get(attribute.data_type)
+    if kind is None or attribute.domain not in {"CURVE", "POINT"}:
+        if problems is not None:
+            problems.warning(ob.name, "colour attribute '{}' is {} on the {} domain; Purl reads colours "
+                             "(or vectors) on the curve or point domain".format(name, attribute.data_type, attribute.domain))
+        return None
+    field, width = kind
+    # BYTE_COLOR's `color` is already scene-linear (color_srgb is the sRGB one).
+    values = np.empty(len(attribute.data) * width, dtype=np.float32)
+    attribute.data.foreach_get(field, values)
+    values = values.reshape(-1, width)[:, :3]
+    if attribute.domain == "POINT":
+        counts = np.maximum(np.diff(offsets), 1)[:, None]
+        values = np.add.reduceat(values, offsets[:-1], axis=0) / counts
+    return np.ascontiguousarray(values, dtype=np.float32)
+
+
+def hair_curves(ob, matrix_world, problems=None):
     """A Curves object; Cycles renders each curve as Catmull-Rom through all its points."""
     data = ob.data
     n_points, n_curves = len(data.points), len(data.curves)
@@ -78,9 +123,11 @@ def hair_curves(ob, matrix_world):
         radius.data.foreach_get("value", radii)
     points = transform_points(positions.reshape(-1, 3), matrix_world)
     radii = radii * np.float32(uniform_scale(matrix_world))
+    material = _first_material(ob)
+    colors = curve_colors(ob, data, offsets, problems, color_attribute_name(material))
     points, radii, offsets = repeat_end_points(points, radii, offsets)
     return [YarnCurves(ob.name, "catmull_rom", points, radii, offsets,
-                       np.zeros(n_curves, dtype=bool), _first_material(ob))]
+                       np.zeros(n_curves, dtype=bool), material, _original_name(ob), colors)]
 
 
 # --- particle hair -----------------------------------------------------------------------------
@@ -281,7 +328,7 @@ def curve_object(ob, matrix_world, problems):
         closed = np.array([c for _, _, c in parts], dtype=bool)
         name = ob.name if len(groups) == 1 else "{} ({})".format(ob.name, basis)
         result.append(YarnCurves(name, basis, points, radii, offsets, closed,
-                                 _slot_material(ob, material_index)))
+                                 _slot_material(ob, material_index), _original_name(ob)))
     if not result:
         problems.warning(ob.name, "the curve has no points")
     return result
@@ -291,6 +338,14 @@ def curve_object(ob, matrix_world, problems):
 
 def checked(yarn, problems):
     """The yarn set made safe for the renderer, or None (with a report) when nothing is left."""
+    if yarn.colors is not None and not np.all(np.isfinite(yarn.colors)):
+        problems.warning(yarn.name, "the colour attribute holds values that are not finite numbers; "
+                         "the material's colours are used")
+        yarn.colors = None
+    if yarn.colors is not None and (yarn.colors.min() < 0.0 or yarn.colors.max() > 1.0):
+        problems.warning(yarn.name, "colour attribute values outside [0, 1] are clipped (purlcore "
+                         "accepts curve colours in [0, 1] only)")
+        yarn.colors = np.clip(yarn.colors, 0.0, 1.0)
     if not np.all(np.isfinite(yarn.points)):
         bad = int(np.count_nonzero(~np.all(np.isfinite(yarn.points), axis=1)))
         problems.warning(yarn.name, "{} point positions are not finite numbers (NaN or infinite); "
@@ -316,7 +371,8 @@ def checked(yarn, problems):
         kept_counts = counts[keep]
         offsets = np.zeros(len(kept_counts) + 1, dtype=np.int32)
         np.cumsum(kept_counts, out=offsets[1:])
+        colors = yarn.colors[keep] if yarn.colors is not None else None
         return YarnCurves(yarn.name, yarn.basis, yarn.points[point_keep], radii[point_keep],
-                          offsets, yarn.closed[keep], yarn.material)
+                          offsets, yarn.closed[keep], yarn.material, yarn.source, colors)
     return YarnCurves(yarn.name, yarn.basis, yarn.points, radii, yarn.offsets, yarn.closed,
-                      yarn.material)
+                      yarn.material, yarn.source, yarn.colors)

@@ -1,11 +1,14 @@
 // One implicit yarn query (plies + fiber maps) against tracing explicit plies for the same rays.
 //
 //   BM_Implicit        trace_yarn_hit: elliptical plies + fiber frame + G_p/G_f (given the tube hit)
+//   BM_ImplicitAllRays BM_Implicit over all 512 rays per iteration, 4 iterations (fixed work:
+//                      for instruction counts, e.g. valgrind --tool=callgrind)
 //   BM_ImplicitPlies   trace_plies only (elliptical)
 //   BM_Circular        trace_plies with the circular cross-section (the older method)
 //   BM_EmbreeTube      Embree ray against the yarn's round B-spline curve (what precedes BM_Implicit)
 //   BM_EmbreePlies     Embree ray against every ply as its own round B-spline curve (ply-based model)
 //   BM_ExactPlies      our exact explicit reference (sphere tracing; accuracy first)
+//   BM_CurveEvaluation one curve frame plus one ply centre: the unit of work inside a query
 //   BM_TubeChord       tube_chord_length from the tube entry along the ray (what the renderer
 //                      asks twice per scattering event); second argument: bend radius in R
 //                      (0 = straight yarn)
@@ -129,6 +132,14 @@ void BM_Implicit(benchmark::State& state) {
     }
 }
 
+// Every prepared ray once per iteration, a fixed number of iterations: the same work in every
+// run, for instruction counts under callgrind (time per ray = reported time / 512).
+void BM_ImplicitAllRays(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    for (auto _ : state)
+        for (const YarnTubeHit& h : s.hits) benchmark::DoNotOptimize(trace_yarn_hit(s.frames, s.description, s.maps, h, 3));
+}
+
 void BM_ImplicitPlies(benchmark::State& state) {
     Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
     size_t i = 0;
@@ -161,6 +172,19 @@ void BM_ExactPlies(benchmark::State& state) {
     for (auto _ : state) {
         const YarnTubeHit& h = s.hits[i++ % kRays];
         benchmark::DoNotOptimize(s.plies.intersect_plies(h.origin, h.direction, 0, 60));
+    }
+}
+
+// The unit of work inside a query: the yarn's centre-line and frame at one parameter plus one
+// ply centre there (what every scan point, Newton step and entry correction evaluates).
+void BM_CurveEvaluation(benchmark::State& state) {
+    Setup& s = setup(3, 0);
+    const YarnTwist tw = yarn_twist(s.frames, s.description);
+    size_t i = 0;
+    for (auto _ : state) {
+        const YarnTubeHit& h = s.hits[i++ % kRays];
+        const CurvePoint c = s.frames.evaluate(h.segment, h.t);
+        benchmark::DoNotOptimize(ply_centre(c, s.description, tw, static_cast<int>(i % 3)));
     }
 }
 
@@ -214,11 +238,13 @@ void arguments(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Implicit)->Apply(arguments);
+BENCHMARK(BM_ImplicitAllRays)->Apply(arguments)->Iterations(4);
 BENCHMARK(BM_ImplicitPlies)->Apply(arguments);
 BENCHMARK(BM_Circular)->Apply(arguments);
 BENCHMARK(BM_EmbreeTube)->Apply(arguments);
 BENCHMARK(BM_EmbreePlies)->Apply(arguments);
 BENCHMARK(BM_ExactPlies)->Apply(arguments);
+BENCHMARK(BM_CurveEvaluation);
 BENCHMARK(BM_TubeChord)->Args({3, 0})->Args({3, 4})->Args({3, 2});
 
 }  // namespace

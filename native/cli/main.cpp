@@ -11,6 +11,7 @@
 #include <thread>
 #include <unistd.h>
 
+#include "fit/fit_command.h"
 #include "io/image_io.h"
 #include "reference/explicit_export.h"
 #include "reference/explicit_models.h"
@@ -69,10 +70,15 @@ void print_stats(const RenderStats& s) {
                  s.samples_per_second(), (unsigned long long)s.rays, s.mean_path_length,
                  (unsigned long long)s.invalid_samples, s.curves, s.control_points, s.acceleration_bytes / 1048576.0,
                  s.shading_bytes / 1048576.0, s.peak_resident_bytes / 1048576.0);
+    if (s.hits_near + s.hits_multi + s.hits_far > 0)
+        std::fprintf(stderr, "multiscale: camera hits near %llu, multi %llu, far %llu; mean h samples per hit %.2f\n",
+                     (unsigned long long)s.hits_near, (unsigned long long)s.hits_multi,
+                     (unsigned long long)s.hits_far, s.mean_h_samples());
 }
 
 int run_render(const std::string& scene_path, const std::string& output, const std::string& png,
-               int spp, int threads, long long seed, const std::string& model, bool stats) {
+               int spp, int threads, long long seed, const std::string& model, bool stats,
+               const std::string& integrator, const std::string& multiscale_mode) {
     const std::string ext = lowercase_extension(output);
     if (ext != ".exr" && ext != ".png")
         throw InputError(output, "", "output must end in .exr or .png");
@@ -81,6 +87,8 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (threads > 0) scene.render.threads = threads;
     if (seed >= 0) scene.render.seed = static_cast<uint64_t>(seed);
     if (!model.empty()) scene.render.model = parse_yarn_model(model, "--model");
+    if (!multiscale_mode.empty()) scene.render.multiscale.mode = *parse_multiscale_mode(multiscale_mode);
+    if (!integrator.empty()) scene.render.trace_only = integrator == "trace";
 
     Renderer renderer(std::move(scene));
     RenderControl control;
@@ -106,6 +114,7 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (ext == ".exr") write_multilayer_exr(output, result.image, "ViewLayer");
     else write_png(output, result.image);
     if (!png.empty()) write_png(png, result.image);
+    for (const std::string& w : result.stats.warnings) std::fprintf(stderr, "purl: warning: %s\n", w.c_str());
     if (stats) print_stats(result.stats);
     std::fprintf(stderr, "purl: wrote %s%s%s (%d x %d, %d spp) in %.2f s\n", output.c_str(),
                  png.empty() ? "" : " and ", png.c_str(), result.image.width, result.image.height,
@@ -173,6 +182,16 @@ int main(int argc, char** argv) {
     render->add_option("--model", model, "yarn model: bysdf (implicit plies), ply or fiber (explicit references)")
         ->check(CLI::IsMember({"bysdf", "ply", "fiber"}));
     render->add_flag("--stats", stats, "print timing, ray and memory figures");
+    std::string integrator;
+    render->add_option("--integrator", integrator,
+                       "path (default) or trace: camera rays only, constant shading (benchmark baseline)")
+        ->check(CLI::IsMember({"path", "trace"}));
+
+    std::string multiscale_mode;
+    render->add_option("--mode", multiscale_mode,
+                       "multi-scale shading of camera hits on BYSDF yarns: near, multi, far or auto "
+                       "(overrides the scene; docs/multiscale.md)")
+        ->check(CLI::IsMember({"near", "multi", "far", "auto"}));
 
     std::string info_path;
     CLI::App* info = app.add_subcommand("info", "Describe a BCC curve file");
@@ -194,14 +213,40 @@ int main(int argc, char** argv) {
     export_explicit->add_option("--radii", export_radii,
                                 "radius side file: float32 per BCC point, scene units (default: output.radii)");
 
+    FitCommand fit_command;
+    CLI::App* fit = app.add_subcommand("fit", "Fit BYSDF parameters to target images; write a preset (docs/fitting.md)");
+    fit->add_option("scene", fit_command.scenes, "scene(s): one for all targets or one per target")->required();
+    // One value per --target/--mask, so `purl fit --target t.exr scene.json` leaves the scene positional.
+    fit->add_option("--target", fit_command.targets, "target image (EXR/PNG) at the scene's film size; repeatable")
+        ->required()
+        ->allow_extra_args(false);
+    fit->add_option("--mask", fit_command.masks, "per-target mask image (0 ignores a pixel); repeatable")
+        ->allow_extra_args(false);
+    fit->add_option("--params", fit_command.params, "parameters to fit (default kxB,kyB,sigma_t)");
+    fit->add_option("-o,--output", fit_command.output, "preset JSON to write")->required();
+    fit->add_option("--name", fit_command.name, "preset name (default: output file name)");
+    fit->add_option("--iterations", fit_command.iterations, "most Levenberg-Marquardt iterations")
+        ->check(CLI::Range(1, 1000));
+    fit->add_option("--spp", fit_command.spp, "samples per pixel of every render (default: the scene's)")
+        ->check(CLI::Range(1, 1 << 16));
+    fit->add_option("--seed", fit_command.seed, "seed of every render (default: the scene's)")
+        ->check(CLI::Range(0LL, 2147483647LL));
+    fit->add_option("--threads", fit_command.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+    fit->add_option("--tolerance", fit_command.tolerance, "stop when a step gains less than this fraction")
+        ->check(CLI::Range(0.0, 1.0));
+    fit->add_option("--block", fit_command.block, "compare b x b block means (less noise bias; default 1)")
+        ->check(CLI::Range(1, 64));
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }
     try {
-        if (*render) return run_render(scene_path, output, png, spp, threads, seed, model, stats);
+        if (*render) return run_render(scene_path, output, png, spp, threads, seed, model, stats, integrator,
+                                       multiscale_mode);
         if (*info) return run_info(info_path);
+        if (*fit) return run_fit_command(fit_command);
         if (*export_explicit) return run_export_explicit(export_scene, export_model, export_output, export_radii);
         if (*generate) {
             const YarnCurves curves = generate_swatch(parse_swatch_kind(kind), swatch);

@@ -44,6 +44,9 @@ def scene():
             for block in list(collection):
                 collection.remove(block)
     scene = bpy.context.scene
+    for prop in scene.purl.bl_rna.properties:  # settings a previous test changed (composite mode...)
+        if prop.identifier != "rna_type":
+            scene.purl.property_unset(prop.identifier)
     scene.render.engine = "PURL"
     scene.render.resolution_x, scene.render.resolution_y = 64, 48
     scene.render.resolution_percentage = 100

@@ -4,6 +4,7 @@ from importlib import import_module
 from types import SimpleNamespace
 
 import bpy
+import numpy as np
 import pytest
 
 from builders import add_light, compat
@@ -80,3 +81,33 @@ def test_render_and_world_panels_draw(ui, scene):
 def test_blenders_own_panels_accept_purl(ui):
     assert "PURL" in bpy.types.RENDER_PT_format.COMPAT_ENGINES
     assert "PURL" in bpy.types.DATA_PT_lens.COMPAT_ENGINES
+
+
+def test_whole_number_parameters_are_integer_fields(purl, core):
+    declared = {p["name"] for p in core.yarn_parameters() if p["is_integer"]}
+    assert {"ply_count", "fiber_count", "map_resolution", "migration_variants", "seed"} == declared
+    material = bpy.data.materials.new("Wool")
+    geometry = material.purl.yarn_geometry.bl_rna.properties
+    assert all(geometry[name].type == "INT" for name in declared)
+    assert geometry["ply_radius"].type == "FLOAT"
+    assert material.purl.params_bysdf.bl_rna.properties["ply_color_count"].type == "INT"
+
+
+def test_yarn_geometry_is_exported_and_read_natively(purl, core, scene):
+    material = bpy.data.materials.new("Wool")
+    material.purl.model = "bysdf"
+    material.purl.yarn_geometry.ply_count = 4
+    material.purl.yarn_geometry.fiber_count = 40
+    panel = import_module(purl.__name__ + ".ui").PURL_PT_material_geometry
+    context = SimpleNamespace(engine="PURL", material=material)
+    assert panel.poll(context)
+    assert {"ply_count", "fiber_count", "ply_twist"} <= set(draw(panel, context))
+    exported = import_module(purl.__name__ + ".export.materials").yarn_material(material, None)
+    assert exported["yarn"]["ply_count"] == 4.0 and exported["yarn"]["fiber_count"] == 40.0
+    scene_object = {"version": 1, "camera": {"position": [0, -3, 0], "look_at": [0, 0, 0]},
+                    "film": {"width": 8, "height": 8},
+                    "yarns": [{"name": "y", "arrays": "y", "material": exported}]}
+    arrays = {"y": {"points": np.array([[-1, 0, 0], [-0.3, 0, 0], [0.3, 0, 0], [1, 0, 0]], np.float32),
+                    "radii": np.full(4, 0.1, np.float32), "offsets": np.array([0, 4], np.int32),
+                    "basis": "bspline"}}
+    core.RenderJob(scene_object, arrays)  # parses the material, yarn geometry included

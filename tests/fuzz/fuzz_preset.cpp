@@ -1,4 +1,4 @@
-// libFuzzer target: yarn preset files (the material object, read as a render reads it),
+// libFuzzer target: yarn preset files, read as a scene reads them ("preset_file"),
 // checked by fuzz_checks.h.
 #include <cstdio>
 

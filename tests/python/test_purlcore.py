@@ -164,3 +164,53 @@ def test_project_points_follows_the_camera():
     assert np.allclose(xy[1], [320 + offset, 240], atol=1e-3)
     assert np.allclose(xy[2], [320, 240 - offset], atol=1e-3)
     assert np.all(np.isnan(xy[3])), "behind the camera"
+
+
+def bysdf_scene(**render):
+    s = scene()
+    s["render"].update(render)
+    s["yarns"][0]["material"] = {"model": "bysdf", "yarn": {"preset": "prototype", "fiber_count": 12}}
+    return s
+
+
+def test_explicit_curves_are_plies_and_fibers_inside_the_yarn():
+    arrays = {"knit": yarn_arrays(curves=2, radius=0.05)}
+    plies = purlcore.explicit_curves(bysdf_scene(), arrays, "", "ply")
+    fibers = purlcore.explicit_curves(bysdf_scene(), arrays, "", "fiber")
+    ply_count = next(p["default"] for p in purlcore.yarn_parameters() if p["name"] == "ply_count")
+    ply_radius = next(p["default"] for p in purlcore.yarn_parameters() if p["name"] == "ply_radius")
+    assert len(plies["offsets"]) - 1 == 2 * ply_count
+    assert len(fibers["offsets"]) - 1 == 2 * ply_count * 12
+    np.testing.assert_allclose(plies["radii"], ply_radius * 0.05, rtol=1e-5)
+    assert np.all(fibers["radii"] < plies["radii"].min())
+    # Every control point stays near its yarn: the yarns run along x at y = -0.2 and 0.
+    # (B-spline control points may stand off the curve by a little, hence the 1.5 radii.)
+    for curves in (plies, fibers):
+        pts = curves["points"]
+        nearest_yarn = np.minimum(np.abs(pts[:, 1] + 0.2), np.abs(pts[:, 1]))
+        assert nearest_yarn.max() < 1.5 * 0.05
+        assert np.all(np.isfinite(pts))
+        assert curves["offsets"][0] == 0 and curves["offsets"][-1] == len(pts)
+        assert np.all(np.diff(curves["offsets"]) >= 4)
+        assert curves["segment_offsets"][-1] == len(curves["segments"])
+
+
+def test_explicit_curves_refuse_beyond_the_memory_budget():
+    arrays = {"knit": yarn_arrays(curves=2, radius=0.05)}
+    with pytest.raises(purlcore.Error, match="memory|budget"):
+        purlcore.explicit_curves(bysdf_scene(explicit={"memory_budget_gib": 0.0001}), arrays, "", "fiber")
+    with pytest.raises(ValueError, match="ply' or 'fiber"):
+        purlcore.explicit_curves(bysdf_scene(), arrays, "", "bysdf")
+
+
+def test_load_bcc_returns_the_curve_tables():
+    glove = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "glove.bcc")
+    if not os.path.exists(glove):
+        pytest.skip("../shared/data/glove.bcc is not here")
+    c = purlcore.load_bcc(glove, 0.1)
+    offsets, segments, seg_offsets = c["offsets"], c["segments"], c["segment_offsets"]
+    assert len(offsets) == len(c["closed"]) + 1 == 71  # 70 loops
+    assert offsets[0] == 0 and offsets[-1] == len(c["points"]) == 234148
+    assert np.all(np.diff(offsets) > 0) and seg_offsets[-1] == len(segments)
+    assert np.all(segments[seg_offsets[1:] - 1] + 3 < offsets[1:])  # each curve's last segment is its own
+    np.testing.assert_allclose(c["radii"], 0.1)

@@ -1,5 +1,6 @@
 #include "bsdf/bysdf_params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -66,10 +67,12 @@ std::vector<ParamInfo> build_table() {
         scalar("fiber_shadow_floor", "", 0.0f, 1.0f, 0.5f,
                "Lowest value the fiber self-shadowing G_f may take.",
                offsetof(BysdfParams, fiber_shadow_floor)),
-        scalar("ply_color_count", "", 1.0f, float(kMaxPlyColors), 1.0f,
-               "Number of ply colours in use; ply i takes ply colour (i mod count) + 1.",
-               offsetof(BysdfParams, ply_color_count)),
     };
+    ParamInfo ply_color_count = scalar("ply_color_count", "", 1.0f, float(kMaxPlyColors), 1.0f,
+                                       "Number of ply colours in use; ply i takes ply colour (i mod count) + 1.",
+                                       offsetof(BysdfParams, ply_color_count));
+    ply_color_count.is_integer = true;
+    t.push_back(ply_color_count);
     // String literals keep the names alive for the table's lifetime.
     static const char* const names[kMaxPlyColors] = {
         "ply_color_1", "ply_color_2", "ply_color_3", "ply_color_4",  "ply_color_5",  "ply_color_6",
@@ -85,6 +88,19 @@ std::vector<ParamInfo> build_table() {
 const std::vector<ParamInfo>& bysdf_param_table() {
     static const std::vector<ParamInfo> table = build_table();
     return table;
+}
+
+Vec3 recolored_albedo(Vec3 albedo, Vec3 color) {
+    const float strength = std::max(albedo.x, std::max(albedo.y, albedo.z));
+    const Vec3 c(std::clamp(color.x, 0.0f, 1.0f), std::clamp(color.y, 0.0f, 1.0f), std::clamp(color.z, 0.0f, 1.0f));
+    return c * std::clamp(strength, 0.0f, 1.0f);  // NaN passes through; Bysdf clamps its inputs
+}
+
+BysdfParams with_body_color(const BysdfParams& params, Vec3 color) {
+    BysdfParams p = params;
+    p.body_reflection_albedo = recolored_albedo(params.body_reflection_albedo, color);
+    p.body_transmission_albedo = recolored_albedo(params.body_transmission_albedo, color);
+    return p;
 }
 
 BysdfParams default_bysdf_params() {

@@ -43,6 +43,15 @@ const std::vector<ParamInfo>& bysdf_param_table();
 // The table's defaults.
 BysdfParams default_bysdf_params();
 
+// A curve's own colour (YarnCurves::colors) replaces the body colour of the material: each
+// body albedo becomes `color` times its own largest channel, so the material still decides
+// how bright the back- and forward-scattered body lobes are and the curve decides their hue
+// and relative brightness. Ply colours keep multiplying on top; specular lobes are untouched.
+// `color` is clamped to [0, 1].
+BysdfParams with_body_color(const BysdfParams& params, Vec3 color);
+// The same rule for any one albedo: `color` x the largest channel of `albedo`.
+Vec3 recolored_albedo(Vec3 albedo, Vec3 color);
+
 // Throws InputError(file, place + "." + name, reason) for a NaN or out-of-range field or a
 // non-integer ply_color_count. For front doors that fill the struct without the JSON reader.
 void check_bysdf_params(const BysdfParams& p, const std::string& file, const std::string& place);

@@ -17,6 +17,7 @@ struct ParamInfo {
     const char* doc;    // one sentence, used as the UI tooltip
     size_t offset;      // byte offset of the float (or float[3]) inside the parameter struct
     bool is_color;      // shown as a colour picker
+    bool is_integer = false;  // whole numbers only (counts, seeds): shown as an integer field
 };
 
 // Reads a float field described by `info` from a parameter struct.

@@ -2,6 +2,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -23,10 +26,14 @@ const ImagePass* RenderImage::find(const std::string& name) const {
 
 namespace {
 
-// A sibling temporary path with the same extension, so OIIO picks the same format.
+// A sibling temporary path with the same extension, so OIIO picks the same format. The
+// process id and a counter keep two writes of the same output (two renders at once, in
+// one process or two) from sharing a temporary; the last rename wins with a whole file.
 std::string temporary_path(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
     const fs::path p(path);
-    return (p.parent_path() / (".tmp-" + p.stem().string() + p.extension().string())).string();
+    const std::string unique = std::to_string(getpid()) + "-" + std::to_string(counter++);
+    return (p.parent_path() / (".tmp-" + p.stem().string() + "-" + unique + p.extension().string())).string();
 }
 
 void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {

@@ -54,7 +54,7 @@ ExplicitSize explicit_size(const SceneDesc& scene, YarnModel model, const Explic
 }
 
 SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model) {
-    return make_explicit_scene(scene, model, ExplicitOptions{});
+    return make_explicit_scene(scene, model, scene.render.explicit_options);
 }
 
 SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model, const ExplicitOptions& options) {

@@ -33,6 +33,7 @@ ExplicitSize explicit_size(const SceneDesc& scene, YarnModel model, const Explic
 // A copy of `scene` whose BYSDF yarn sets are replaced by explicit ply or fiber curves with
 // their own materials, for `model` Ply or Fiber (Bysdf returns the scene unchanged). Throws
 // InputError, before allocating the curves, when explicit_size exceeds the memory budget.
+// Without options, the scene's own (render.explicit in the JSON scene).
 SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model);
 SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model, const ExplicitOptions& options);
 

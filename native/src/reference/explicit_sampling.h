@@ -10,21 +10,12 @@
 #include <vector>
 
 #include "reference/spline_fit.h"
+#include "scene/explicit_options.h"
 #include "scene/curves.h"
 #include "yarn/curve_frames.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {
-
-struct ExplicitOptions {
-    float ply_tolerance = 5e-3f;    // ply radii: bound on a ply curve's distance from its helix
-    float fiber_tolerance = 0.05f;  // fiber radii: the same for fibers
-    // The centre-line curvature the knot step is planned for: the one this share of the yarn's
-    // length stays below (1 = the sharpest bend; never above 1 / yarn radius, where the tube
-    // itself folds). Real data has rare kinks that would otherwise set the step everywhere.
-    float curvature_quantile = 0.99f;
-    double memory_budget_bytes = 8.0 * 1024 * 1024 * 1024;  // refuse scenes whose geometry needs more
-};
 
 // Knots of the explicit curves of one yarn curve: at arc lengths j * step, j = 0 .. knots-1.
 struct CurveSampling {

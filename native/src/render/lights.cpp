@@ -137,7 +137,9 @@ bool Lights::sample_one(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) cons
             out.wi = Frame::from_normal(w).to_world(sample_uniform_cone(u, cos_max));
             const float t = ray_sphere(p, out.wi, e.position, e.radius);
             out.distance = t > 0 ? t : d - e.radius;
-            out.radiance = e.radiance * spot_factor(e, normalize(p - e.position));
+            // As Cycles 4.x: the cone is evaluated along the ray (light toward the shading point),
+            // the same function of (p, wi) as for BSDF-sampled hits below, so MIS stays consistent.
+            out.radiance = e.radiance * spot_factor(e, -out.wi);
             out.pdf = uniform_cone_pdf(cos_max);
             out.delta = false;
             return true;
@@ -200,7 +202,7 @@ bool Lights::intersect_emitter(const Ray& ray, float t_max, EmitterHit& out) con
         } else {
             const float d2 = length_squared(e.position - ray.origin);
             const float cos_max = safe_sqrt(1 - std::min(1.0f, e.radius * e.radius / d2));
-            out.radiance = e.radiance * spot_factor(e, normalize(ray.at(t) - e.position));
+            out.radiance = e.radiance * spot_factor(e, -ray.direction);  // not the sphere's normal
             out.pdf = uniform_cone_pdf(cos_max) * selection_pdf();
         }
     }

@@ -34,38 +34,13 @@
 #include "bsdf/bysdf.h"
 #include "math/frame.h"
 #include "render/footprint.h"
+#include "scene/multiscale_settings.h"
 #include "yarn/fiber_maps.h"
 #include "yarn/implicit_plies.h"
 #include "yarn/yarn_description.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {
-
-enum class MultiscaleMode { Near, Multi, Far, Auto };
-enum class MultiscaleAggregation { Mixture, Aggregate };
-
-constexpr int kMaxHSamples = 16;
-
-struct MultiscaleSettings {
-    MultiscaleMode mode = MultiscaleMode::Auto;
-    MultiscaleAggregation aggregation = MultiscaleAggregation::Mixture;
-    // Float fields, declared in multiscale_param_table():
-    float roughness_c;       // C_beta in beta_multi = beta + (h2 - h1) / C_beta; dimensionless
-    float footprint_scale;   // pixels: multiplies the one-pixel differentials
-    float max_h_samples;     // whole number 1..16: most h samples per hit
-    float sample_spacing;    // fiber diameters of footprint per h sample
-    float near_limit;        // auto: near field below this many fiber diameters of footprint
-};
-
-const std::vector<ParamInfo>& multiscale_param_table();
-MultiscaleSettings default_multiscale_settings();
-// Throws InputError(file, place + "." + name, reason) for NaN, out-of-range or fractional values.
-void check_multiscale_settings(const MultiscaleSettings& s, const std::string& file, const std::string& place);
-
-const char* multiscale_mode_name(MultiscaleMode mode);  // "near", "multi", "far", "auto"
-std::optional<MultiscaleMode> parse_multiscale_mode(const std::string& name);
-const char* multiscale_aggregation_name(MultiscaleAggregation a);  // "mixture", "aggregate"
-std::optional<MultiscaleAggregation> parse_multiscale_aggregation(const std::string& name);
 
 // Width in h (yarn radii) of one fiber: 2 fiber_radius ply_radius; the smallest feature.
 float fiber_feature_width(const YarnDescription& d);

@@ -7,14 +7,17 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include "math/rng.h"
 #include "reference/explicit_models.h"
 #include "render/film.h"
 #include "render/shading.h"
+#include "scene/input_error.h"
 
 namespace purl {
 
@@ -35,15 +38,33 @@ double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The film and its passes take about 76 bytes a pixel; the JSON reader allows 32768 pixels
+// a side, whose film alone would be 76 GiB. Refused before anything is allocated.
+void check_film_size(const SceneDesc& scene) {
+    constexpr uint64_t kMaxFilmPixels = uint64_t(1) << 26;  // 8192 x 8192, about 5 GiB
+    const uint64_t pixels = uint64_t(std::max(scene.film.width, 0)) * uint64_t(std::max(scene.film.height, 0));
+    if (pixels == 0 || pixels > kMaxFilmPixels) {
+        const uint64_t bytes = pixels * (sizeof(PixelResult) + 9 * sizeof(float));
+        throw InputError(scene.source, "film",
+                         std::to_string(scene.film.width) + " x " + std::to_string(scene.film.height) +
+                             " pixels: a render may have 1 to " + std::to_string(kMaxFilmPixels) +
+                             " pixels (8192 x 8192); this film and its passes would take " +
+                             std::to_string(bytes >> 30) + " GiB");
+    }
+}
+
 }  // namespace
 
 struct Renderer::PathTotals {
     uint64_t rays = 0, interactions = 0, invalid = 0;
+    uint64_t hits_by_mode[3] = {0, 0, 0};  // near, multi, far: camera hits on BYSDF yarns
+    uint64_t h_samples = 0;
 };
 
 Renderer::Renderer(SceneDesc scene)
     : scene_(scene.render.model == YarnModel::Bysdf ? std::move(scene) : make_explicit_scene(scene, scene.render.model)),
       camera_(scene_.camera, scene_.film) {
+    check_film_size(scene_);
     const auto start = Clock::now();
     geometry_ = std::make_unique<EmbreeScene>(scene_);
     lights_ = std::make_unique<Lights>(scene_);
@@ -68,6 +89,15 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     control.pixels_total = uint64_t(width) * height;
 
     std::atomic<uint64_t> rays{0}, interactions{0}, invalid{0};
+    std::atomic<uint64_t> hits_near{0}, hits_multi{0}, hits_far{0}, h_samples{0};
+    // The selector warns once per render (far forced on yarns wider than a pixel); the
+    // warning goes into the stats, and front ends show it (CLI: stderr).
+    std::mutex warnings_mutex;
+    std::vector<std::string> warnings;
+    const MultiscaleSelector multiscale(settings.multiscale, [&](const std::string& message) {
+        const std::lock_guard<std::mutex> lock(warnings_mutex);
+        warnings.push_back(message);
+    });
     const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
     tbb::task_arena arena(threads);
     const auto start = Clock::now();
@@ -82,12 +112,16 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
                     for (int y = y0; y < y1; ++y)
                         for (int x = x0; x < x1; ++x) {
                             if (control.cancel.load(std::memory_order_relaxed)) return;
-                            render_pixel(x, y, settings, film.at(x, y), totals);
+                            render_pixel(x, y, settings, multiscale, film.at(x, y), totals);
                             control.pixels_done.fetch_add(1, std::memory_order_relaxed);
                         }
                     rays += totals.rays;
                     interactions += totals.interactions;
                     invalid += totals.invalid;
+                    hits_near += totals.hits_by_mode[0];
+                    hits_multi += totals.hits_by_mode[1];
+                    hits_far += totals.hits_by_mode[2];
+                    h_samples += totals.h_samples;
                 }
             },
             tbb::simple_partitioner());
@@ -111,22 +145,30 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     s.shading_bytes = shader_->memory_bytes();
     s.peak_resident_bytes = peak_resident_bytes();
     s.threads = threads;
+    s.hits_near = hits_near;
+    s.hits_multi = hits_multi;
+    s.hits_far = hits_far;
+    s.h_samples = h_samples;
+    s.warnings = warnings;
     return result;
 }
 
-void Renderer::render_pixel(int px, int py, const RenderSettings& settings, PixelResult& out,
-                            PathTotals& totals) const {
+void Renderer::render_pixel(int px, int py, const RenderSettings& settings, const MultiscaleSelector& multiscale,
+                            PixelResult& out, PathTotals& totals) const {
     Vec3 color_sum(0.0f), normal_sum(0.0f);
     double alpha_sum = 0;
     for (int s = 0; s < settings.spp; ++s) {
         Rng rng = pixel_sample_rng(settings.seed, uint32_t(px), uint32_t(py), uint32_t(s));
         const float jx = rng.next_float(), jy = rng.next_float();
         Ray ray = camera_.generate_ray(px + jx, py + jy);
+        // Multi-scale draws from its own stream, so the path's random numbers (and near-mode
+        // images) do not depend on the mode.
+        Rng hit_rng = pixel_sample_rng(settings.seed ^ 0x6d756c7469ULL, uint32_t(px), uint32_t(py), uint32_t(s));
 
         Vec3 radiance(0.0f), throughput(1.0f);
         float alpha = 1.0f;
         float previous_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that made `ray`
-        int depth = 0, pass_throughs = 0;
+        int depth = 0, pass_throughs = 0, light_pass_throughs = 0;
         while (depth < settings.max_depth) {
             SurfaceHit hit;
             ++totals.rays;
@@ -138,7 +180,11 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
             if (lights_->intersect_emitter(ray, surface_t, emitter)) {
                 const float w = depth == 0 ? 1.0f : power_heuristic(previous_pdf, emitter.pdf);
                 radiance += throughput * emitter.radiance * w;
-                break;
+                // Lights are not surfaces (as in Cycles): the ray goes on to what lies behind,
+                // so a light in view or under a BSDF sample hides nothing.
+                if (++light_pass_throughs > kMaxPassThroughs) break;
+                ray.tmin = emitter.distance * (1 + 1e-5f) + 1e-7f;
+                continue;
             }
             if (!hit_surface) {
                 if (depth == 0) {
@@ -151,6 +197,11 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
                 }
                 break;
             }
+            if (settings.trace_only) {  // benchmark baseline: traversal alone, no shading
+                radiance += Vec3(0.5f);
+                ++totals.interactions;
+                break;
+            }
             if (depth == 0 && pass_throughs == 0) {
                 out.depth = std::min(out.depth, camera_.view_depth(hit.position));
                 normal_sum += dot(hit.geometric_normal, ray.direction) < 0 ? hit.geometric_normal : -hit.geometric_normal;
@@ -158,7 +209,17 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
                     out.yarn_id = float(yarn_id_base_[hit.object] +
                                         uint32_t(scene_.yarns[hit.object].curves.curve_ids[hit.curve]) + 1);
             }
-            const SurfaceInteraction si = shader_->shade(hit, ray);
+            // The camera ray (also after passing between plies) keeps its differentials and is
+            // shaded by the multi-scale selector; deeper rays shade near.
+            MultiscaleHitContext camera_hit;
+            if (depth == 0) camera_hit = {&multiscale, hit_rng.next_float(), hit_rng.next_float()};
+            const SurfaceInteraction si = shader_->shade(hit, ray, depth == 0 ? &camera_hit : nullptr);
+            if (si.h_samples > 0) {
+                ++totals.hits_by_mode[si.multiscale_mode == MultiscaleMode::Far     ? 2
+                                      : si.multiscale_mode == MultiscaleMode::Multi ? 1
+                                                                                    : 0];
+                totals.h_samples += uint64_t(si.h_samples);
+            }
             if (si.pass_through) {
                 // Between the plies: the ray goes on through the yarn, no scattering.
                 if (++pass_throughs > kMaxPassThroughs) break;
@@ -182,13 +243,15 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, Pixe
             const Vec2 u_light2(rng.next_float(), rng.next_float());
             if (lights_->sample(sp.position, u_light, u_light2, ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
                 const ShadingPoint::Exit exit = sp.leave(ls.wi);
-                const Vec3 f = sp.eval(wo, ls.wi, exit.chord);
+                float bsdf_pdf = -1.0f;  // given with f by the multi-scale mixture, else asked below
+                const Vec3 f = sp.eval(wo, ls.wi, exit.chord, &bsdf_pdf);
                 const float cos_i = std::fabs(dot(ls.wi, sp.frame.n));
                 if (!is_black(f) && cos_i > 0) {
                     ++totals.rays;
                     const float travelled = length(exit.origin - sp.position);
                     if (!geometry_->occluded(exit.origin, ls.wi, 0.0f, (ls.distance - travelled) * (1 - 1e-4f))) {
-                        const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, sp.pdf(wo, ls.wi));
+                        if (!ls.delta && bsdf_pdf < 0) bsdf_pdf = sp.pdf(wo, ls.wi);
+                        const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, bsdf_pdf);
                         radiance += throughput * f * ls.radiance * (cos_i * w / ls.pdf);
                     }
                 }

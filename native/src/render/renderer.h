@@ -5,6 +5,8 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "io/image_io.h"
 #include "render/camera.h"
@@ -38,6 +40,14 @@ struct RenderStats {
     size_t curves = 0;
     size_t peak_resident_bytes = 0; // of the whole process so far
     int threads = 0;
+    // Multi-scale (render.multiscale): camera hits on BYSDF yarns by the mode that shaded them,
+    // and the h samples those hits traced (near: 1 each).
+    uint64_t hits_near = 0, hits_multi = 0, hits_far = 0, h_samples = 0;
+    double mean_h_samples() const {
+        const uint64_t hits = hits_near + hits_multi + hits_far;
+        return hits ? double(h_samples) / double(hits) : 0.0;
+    }
+    std::vector<std::string> warnings;  // e.g. far mode forced on yarns wider than a pixel
     double samples_per_second() const { return render_seconds > 0 ? samples / render_seconds : 0; }
 };
 
@@ -60,8 +70,8 @@ public:
 
 private:
     struct PathTotals;
-    void render_pixel(int x, int y, const RenderSettings& settings, struct PixelResult& out,
-                      PathTotals& totals) const;
+    void render_pixel(int x, int y, const RenderSettings& settings, const MultiscaleSelector& multiscale,
+                      struct PixelResult& out, PathTotals& totals) const;
 
     SceneDesc scene_;
     Camera camera_;

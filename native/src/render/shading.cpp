@@ -1,7 +1,9 @@
 #include "render/shading.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "bsdf/ply_bsdf.h"
 #include "math/bspline.h"
@@ -36,9 +38,14 @@ ShadingPoint::Exit ShadingPoint::leave(Vec3 wi) const {
     return {position + surface_normal * side, 0.0f};
 }
 
-Vec3 ShadingPoint::eval(Vec3 wo_world, Vec3 wi_world, float chord) const {
+Vec3 ShadingPoint::eval(Vec3 wo_world, Vec3 wi_world, float chord, float* pdf_out) const {
     const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
     if (const Bysdf* b = std::get_if<Bysdf>(&bsdf)) return b->eval(wo, wi, chord);
+    if (const MultiscaleBysdf* m = std::get_if<MultiscaleBysdf>(&bsdf); m && pdf_out) {
+        const BsdfEvalPdf r = m->eval_pdf(wo, wi);
+        *pdf_out = r.pdf;
+        return r.f;
+    }
     return std::visit([&](const auto& model) { return model.eval(wo, wi); }, bsdf);
 }
 
@@ -58,6 +65,17 @@ std::optional<BsdfSample> ShadingPoint::sample(Vec3 wo_world, float u_lobe, Vec2
     if (const Bysdf* b = std::get_if<Bysdf>(&bsdf); b && s->is_transmission())
         s->f = b->eval(wo, wi_local, exit.chord);
     return s;
+}
+
+// One recoloured copy of the material per distinct curve colour (knits use a handful).
+void SurfaceShader::recolor_bysdf(const BysdfParams& material, const std::vector<Vec3>& colors, YarnSetData& data) {
+    std::map<std::array<float, 3>, uint32_t> index_of;
+    data.colored_of_curve.reserve(colors.size());
+    for (const Vec3& c : colors) {
+        const auto [it, added] = index_of.try_emplace({c.x, c.y, c.z}, uint32_t(data.colored_bysdf.size()));
+        if (added) data.colored_bysdf.push_back(with_body_color(material, c));
+        data.colored_of_curve.push_back(it->second);
+    }
 }
 
 SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
@@ -94,6 +112,10 @@ SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
         } else if (set.material.model == "fiber") {
             data.fiber = std::make_unique<FiberBcsdf>(set.material.fiber);
         }
+        // Yarn colours: the BYSDF sets' own curves, the "ply" sets' origin yarns.
+        const YarnCurves* colored = set.material.model == "ply" ? set.material.ply.yarns.get() : &set.curves;
+        if ((set.material.model == "bysdf" || set.material.model == "ply") && colored && colored->has_colors())
+            recolor_bysdf(set.material.bysdf, colored->colors, data);
         yarn_sets_.push_back(std::move(data));
     }
 }
@@ -108,11 +130,12 @@ size_t SurfaceShader::memory_bytes() const {
         for (const ArcLengthIndex& a : d.yarn_arc) bytes += a.memory_bytes();
         if (d.maps) bytes += d.maps->memory_bytes();
         if (d.fiber) bytes += sizeof(FiberBcsdf);
+        bytes += d.colored_bysdf.size() * sizeof(BysdfParams) + d.colored_of_curve.size() * sizeof(uint32_t);
     }
     return bytes;
 }
 
-SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray) const {
+SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext* multiscale) const {
     SurfaceInteraction out;
     ShadingPoint& sp = out.point;
     const Vec3 wo = -ray.direction;
@@ -132,6 +155,9 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray) c
     if (m.model == "placeholder") {
         sp.frame = Frame::from_normal_tangent(n, hit.tangent);
         sp.bsdf = make_placeholder_bsdf(m.placeholder);
+        const YarnCurves& curves = scene_.yarns[hit.object].curves;
+        if (curves.has_colors())  // same rule as the BYSDF body albedos (docs/bysdf.md)
+            std::get<PlaceholderYarnBsdf>(sp.bsdf).color = recolored_albedo(m.placeholder.color, curves.colors[hit.curve]);
         return out;
     }
     if (m.model == "ply") {
@@ -146,6 +172,10 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray) c
     const YarnSetData& data = yarn_sets_[hit.object];
     const CurveFrames& frames = data.frames[hit.curve];
     YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
+    if (multiscale && multiscale->selector) {
+        out.h_samples = 1;  // near unless the selector says otherwise
+        if (shade_multiscale(hit, ray, *multiscale, tube_hit, out)) return out;
+    }
     const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, *data.maps, tube_hit, curve_key_base_[hit.object] + hit.curve);
     if (!y.hit) {
         out.pass_through = true;
@@ -155,16 +185,52 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray) c
     sp.position = y.position;
     sp.frame = Frame::from_normal_tangent(y.fiber_normal, y.fiber_tangent);
     sp.tube = &frames;
-    sp.segment = hit.segment;
-    sp.t = hit.u;
+    sp.segment = y.segment;  // the ply point's own cross-section: chords start there
+    sp.t = y.t;
     sp.yarn_radius = hit.radius;
     BysdfShadingPoint bp;
     bp.ply_shadow = y.ply_shadowing;
     bp.fiber_shadow = y.fiber_shadowing;
     bp.plies_crossed = std::max(1, y.plies_crossed);
     bp.ply_index = y.ply_index;
-    sp.bsdf = Bysdf(m.bysdf, bp);
+    sp.bsdf = Bysdf(data.bysdf(m, hit.curve), bp);
     return out;
+}
+
+bool SurfaceShader::shade_multiscale(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
+                                     const YarnTubeHit& tube_hit, SurfaceInteraction& out) const {
+    const MultiscaleSettings& ms = context.selector->settings();
+    if (ms.mode == MultiscaleMode::Near || !ray.has_differentials) return false;
+    const MaterialDesc& m = scene_.yarns[hit.object].material;
+    const YarnSetData& data = yarn_sets_[hit.object];
+    const CurveFrames& frames = data.frames[hit.curve];
+    MultiscaleQuery q;
+    q.tube = tube_hit;
+    q.axis = project_to_centreline(frames, hit.position, hit.segment, hit.u);
+    q.footprint = yarn_footprint(ray, hit.position, q.axis.point, ms.footprint_scale);
+    q.mode = context.selector->choose(q.footprint, m.yarn);
+    q.u_strata = context.u_strata;
+    if (q.mode == MultiscaleMode::Near) return false;
+    const MultiscaleYarn yarn{&frames, &m.yarn, data.maps.get(), &data.bysdf(m, hit.curve),
+                              curve_key_base_[hit.object] + hit.curve, Vec3(1.0f), {}};
+    MultiscaleBysdf model(yarn, ms, q);
+    out.multiscale_mode = model.mode();  // near when the footprint turned out empty
+    out.h_samples = model.samples();
+    if (model.empty() || context.u_pass < model.pass_fraction()) {
+        // This share of the footprint lies between the plies: go on as a near-field miss does.
+        out.pass_through = true;
+        out.continue_distance = model.pass_distance();
+        return true;
+    }
+    ShadingPoint& sp = out.point;
+    sp.position = model.position();
+    sp.frame = model.frame();
+    sp.tube = &frames;
+    sp.segment = model.segment();
+    sp.t = model.t();
+    sp.yarn_radius = hit.radius;
+    sp.bsdf = std::move(model);
+    return true;
 }
 
 void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,
@@ -217,7 +283,7 @@ void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnS
     sp.segment = c.segment;
     sp.t = c.t;
     sp.yarn_radius = c.point.radius / std::max(m.yarn.ply_radius, 1e-6f);  // chords stay per yarn radius
-    sp.bsdf = make_ply_bsdf(m.bysdf, y.fiber_shadowing, o.ply);
+    sp.bsdf = make_ply_bsdf(data.bysdf(m, o.yarn_curve), y.fiber_shadowing, o.ply);
 }
 
 void SurfaceShader::shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data,

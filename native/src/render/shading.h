@@ -15,6 +15,7 @@
 #include "bsdf/placeholder.h"
 #include "math/frame.h"
 #include "math/ray.h"
+#include "render/multiscale.h"
 #include "reference/arc_length.h"
 #include "scene/embree_scene.h"
 #include "scene/scene.h"
@@ -24,7 +25,14 @@
 
 namespace purl {
 
-using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf, FiberBcsdfRef>;
+using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf, FiberBcsdfRef, MultiscaleBysdf>;
+
+// Multi-scale shading of a camera ray's hit (the ray carries differentials): the render's
+// selector and two per-hit random numbers (h strata jitter, pass-through choice).
+struct MultiscaleHitContext {
+    const MultiscaleSelector* selector = nullptr;
+    float u_strata = 0.5f, u_pass = 0.5f;
+};
 
 struct ShadingPoint {
     Frame frame;          // world <-> local; local +z is the shading normal
@@ -50,7 +58,9 @@ struct ShadingPoint {
     };
     Exit leave(Vec3 wi_world) const;
 
-    Vec3 eval(Vec3 wo_world, Vec3 wi_world, float chord) const;
+    // `pdf_out`: models that get the pdf with f in one pass (the multi-scale mixture visits all
+    // its components for either) store it there; the others leave it as it was.
+    Vec3 eval(Vec3 wo_world, Vec3 wi_world, float chord, float* pdf_out = nullptr) const;
     float pdf(Vec3 wo_world, Vec3 wi_world) const;
     // The sample's f is final: for a transmission through a yarn, attenuated along `exit`.
     std::optional<BsdfSample> sample(Vec3 wo_world, float u_lobe, Vec2 u, Exit& exit) const;
@@ -60,6 +70,10 @@ struct SurfaceInteraction {
     bool pass_through = false;  // the ray met no ply: continue it `continue_distance` further
     float continue_distance = 0;
     ShadingPoint point;
+    // Camera hits on BYSDF yarns shaded with a MultiscaleHitContext: the mode used and the
+    // h samples traced (1 for near). No context or another material: h_samples = 0.
+    MultiscaleMode multiscale_mode = MultiscaleMode::Near;
+    int h_samples = 0;
 };
 
 // Per-scene shading data built once: curve frames and fiber maps for BYSDF yarn sets.
@@ -67,7 +81,8 @@ class SurfaceShader {
 public:
     explicit SurfaceShader(const SceneDesc& scene);
     ~SurfaceShader();
-    SurfaceInteraction shade(const SurfaceHit& hit, const Ray& ray) const;
+    // `multiscale`: only for camera rays (with differentials); deeper rays shade near.
+    SurfaceInteraction shade(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext* multiscale = nullptr) const;
     size_t memory_bytes() const;  // frames and maps
 
 private:
@@ -79,10 +94,21 @@ private:
         std::vector<ArcLengthIndex> yarn_arc;
         std::vector<YarnTwist> yarn_twist;
         std::unique_ptr<FiberBcsdf> fiber;  // "fiber" sets: the per-material BCSDF
+        // Per-yarn colours (YarnCurves::colors): the material recoloured once per distinct
+        // colour, and which of those each yarn curve uses. Empty: every curve uses the material.
+        std::vector<BysdfParams> colored_bysdf;
+        std::vector<uint32_t> colored_of_curve;
+        const BysdfParams& bysdf(const MaterialDesc& m, size_t yarn_curve) const {
+            return colored_of_curve.empty() ? m.bysdf : colored_bysdf[colored_of_curve[yarn_curve]];
+        }
     };
     void shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,
                    ShadingPoint& sp) const;
+    // A camera hit on a BYSDF yarn in multi or far mode (false: shade it near).
+    bool shade_multiscale(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
+                          const YarnTubeHit& tube_hit, SurfaceInteraction& out) const;
     void shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data, ShadingPoint& sp) const;
+    static void recolor_bysdf(const BysdfParams& material, const std::vector<Vec3>& colors, YarnSetData& data);
     const SceneDesc& scene_;
     std::vector<YarnSetData> yarn_sets_;
     std::vector<uint32_t> curve_key_base_;

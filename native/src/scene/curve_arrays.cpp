@@ -1,5 +1,6 @@
 #include "scene/curve_arrays.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -32,18 +33,32 @@ YarnCurves curves_from_arrays(const CurveArrays& a, const std::string& source) {
                                                 "for this basis (at least " +
                                                 std::to_string(min_points(a.basis, closed)) + ")");
         points.resize(n);
+        float largest_radius = 0;
         for (size_t i = 0; i < n; ++i) {
             const float* p = a.points + 3 * (begin + i);
             const float r = a.radii[begin + i];
             const std::string where = place + ", point " + std::to_string(i);
             if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
                 throw InputError(source, where, "position is not finite");
-            if (!(r > 0) || !std::isfinite(r))
-                throw InputError(source, where, "radius must be positive and finite, got " + std::to_string(r));
+            if (!(r >= 0) || !std::isfinite(r))
+                throw InputError(source, where, "radius must be positive and finite (0 only where a curve tapers), got " + std::to_string(r));
             points[i] = Vec4(p[0], p[1], p[2], r);
+            largest_radius = std::max(largest_radius, r);
         }
+        if (!(largest_radius > 0)) throw InputError(source, place, "every radius is 0");
+        BSplineSegments segments = to_bspline_segments(a.basis, points.data(), n, closed);
+        // Hair tapers to 0 at its tips, and the exact Catmull-Rom or Bezier -> B-spline map
+        // overshoots there to negative control radii. B-spline weights are non-negative, so
+        // clamping the control radii keeps the whole curve at least this thin and positive.
+        const float thinnest = kThinnestRadiusShare * largest_radius;
+        for (Vec4& q : segments.points) q.w = std::max(q.w, thinnest);
         const int32_t id = a.ids ? a.ids[c] : static_cast<int32_t>(c);
-        curves.add(to_bspline_segments(a.basis, points.data(), n, closed), closed, id);
+        curves.add(segments, closed, id);
+        if (a.colors) {
+            const Vec3 color(a.colors[3 * c], a.colors[3 * c + 1], a.colors[3 * c + 2]);
+            check_curve_color(color, source, "curve_colors[" + std::to_string(c) + "]");
+            curves.colors.push_back(color);
+        }
     }
     validate_curves(curves, source);
     return curves;

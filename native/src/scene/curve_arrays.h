@@ -19,7 +19,11 @@ struct CurveArrays {
     size_t curve_count = 0;
     const uint8_t* closed = nullptr;  // optional, 1 per curve
     const int32_t* ids = nullptr;     // optional, 1 per curve
+    const float* colors = nullptr;    // optional, 3 per curve: linear RGB in [0, 1] (YarnCurves::colors)
 };
+
+// Radii may taper to 0 (hair tips); no curve is thinner than this share of its largest radius.
+constexpr float kThinnestRadiusShare = 1e-3f;
 
 // Validates and converts; throws InputError naming `source` and the offending curve.
 YarnCurves curves_from_arrays(const CurveArrays& arrays, const std::string& source);

@@ -18,6 +18,14 @@ std::string short_number(double v) {
 
 }  // namespace
 
+void check_curve_color(Vec3 color, const std::string& source, const std::string& place) {
+    for (int k = 0; k < 3; ++k)
+        if (!(color[k] >= 0.0f && color[k] <= 1.0f))  // also false for NaN
+            throw InputError(source, place, "colour must be linear RGB with every channel in [0, 1], got (" +
+                                                short_number(color.x) + ", " + short_number(color.y) + ", " +
+                                                short_number(color.z) + ")");
+}
+
 void validate_curves(const YarnCurves& curves, const std::string& source) {
     const size_t nc = curves.curve_count();
     if (curves.closed.size() != nc || curves.curve_ids.size() != nc)
@@ -26,6 +34,12 @@ void validate_curves(const YarnCurves& curves, const std::string& source) {
         throw InputError(source, "curves", "curve offsets do not end at the point count");
     if (curves.segment_offsets.size() != nc + 1 || curves.segment_offsets.back() != curves.segment_count())
         throw InputError(source, "curves", "segment offsets do not match the segments");
+    if (curves.has_colors()) {
+        if (curves.colors.size() != nc)
+            throw InputError(source, "curve_colors", "has " + std::to_string(curves.colors.size()) +
+                                                         " colours for " + std::to_string(nc) + " curves");
+        for (size_t c = 0; c < nc; ++c) check_curve_color(curves.colors[c], source, "curve " + std::to_string(c));
+    }
     // Radii are checked against the set's extent below, after every position is known finite.
     Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     float max_radius = 0.0f;

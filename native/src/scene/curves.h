@@ -25,10 +25,15 @@ struct YarnCurves {
     std::vector<uint32_t> segment_offsets{0};
     std::vector<uint8_t> closed;     // per curve: 1 when the curve is a closed loop
     std::vector<int32_t> curve_ids;  // per curve: user id (yarn id pass); defaults to the index
+    // Per curve: linear RGB in [0, 1] that replaces the body colour of the curve's material
+    // (docs/bysdf.md, "Per-yarn colour"). Empty when no curve has one (the usual case), else
+    // one per curve. Per curve, not per point: a colour never changes along a yarn.
+    std::vector<Vec3> colors;
 
     size_t curve_count() const { return curve_offsets.size() - 1; }
     size_t point_count() const { return control_points.size(); }
     size_t segment_count() const { return segment_first.size(); }
+    bool has_colors() const { return !colors.empty(); }
     uint32_t segment_count(size_t c) const { return segment_offsets[c + 1] - segment_offsets[c]; }
 
     // Appends one curve given as a chain of B-spline control points. Closed loops get
@@ -71,7 +76,10 @@ private:
 };
 
 // Checks what the renderer relies on: finite positions, radius > 0, at least one segment
-// per curve, segments inside their curve's points. Throws InputError naming `source`.
+// per curve, segments inside their curve's points, no colours or one finite colour in [0, 1]
+// per curve. Throws InputError naming `source`.
 void validate_curves(const YarnCurves& curves, const std::string& source);
+// Throws InputError(source, place, ...) unless every channel is a number in [0, 1].
+void check_curve_color(Vec3 color, const std::string& source, const std::string& place);
 
 }  // namespace purl

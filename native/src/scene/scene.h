@@ -9,6 +9,8 @@
 #include "bsdf/placeholder.h"
 #include "math/transform.h"
 #include "scene/curves.h"
+#include "scene/explicit_options.h"
+#include "scene/multiscale_settings.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {
@@ -42,6 +44,11 @@ struct RenderSettings {
     int threads = 0;      // 0: all cores
     float clamp = 0.0f;   // 0: off
     YarnModel model = YarnModel::Bysdf;
+    MultiscaleSettings multiscale = default_multiscale_settings();  // camera hits on BYSDF yarns
+    ExplicitOptions explicit_options;  // the ply and fiber models' sampling and memory budget
+    // Benchmark baseline (bench/): true traces camera rays only and shades every first hit a
+    // constant grey, to measure traversal alone (no implicit plies, lights or bounces).
+    bool trace_only = false;
 };
 
 enum class LightType { Point, Spot, Sun, Area };

@@ -8,6 +8,7 @@
 #include "bsdf/params.h"
 #include "scene/bcc.h"
 #include "scene/json_reader.h"
+#include "scene/material_preset.h"
 #include "scene/obj_reader.h"
 #include "scene/swatch.h"
 
@@ -50,6 +51,17 @@ void read_film(JsonObject o, FilmDesc& film) {
     o.finish();
 }
 
+void read_multiscale(JsonObject o, MultiscaleSettings& m);  // below read_params
+
+void read_explicit_options(JsonObject o, ExplicitOptions& e) {
+    e.ply_tolerance = o.number("ply_tolerance", e.ply_tolerance, 1e-5f, 0.5f);
+    e.fiber_tolerance = o.number("fiber_tolerance", e.fiber_tolerance, 1e-4f, 2.0f);
+    e.curvature_quantile = o.number("curvature_quantile", e.curvature_quantile, 0.5f, 1.0f);
+    const float budget_gib = o.number("memory_budget_gib", float(e.memory_budget_bytes / (1u << 30)), 1e-4f, 1024.0f);
+    e.memory_budget_bytes = double(budget_gib) * double(1u << 30);
+    o.finish();
+}
+
 void read_render(JsonObject o, RenderSettings& r) {
     r.spp = o.integer("spp", r.spp, 1, 1 << 20);
     r.seed = static_cast<uint64_t>(o.integer("seed", 0, 0, 2147483647));
@@ -57,6 +69,9 @@ void read_render(JsonObject o, RenderSettings& r) {
     r.threads = o.integer("threads", 0, 0, 4096);
     r.clamp = o.number("clamp", 0.0f, 0.0f, kHuge);
     r.model = parse_yarn_model(o.choice("model", "bysdf", {"bysdf", "ply", "fiber"}), o.file());
+    if (o.has("multiscale")) read_multiscale(o.object("multiscale"), r.multiscale);
+    if (o.has("explicit")) read_explicit_options(o.object("explicit"), r.explicit_options);
+    r.trace_only = o.choice("integrator", "path", {"path", "trace"}) == "trace";
     o.finish();
 }
 
@@ -124,6 +139,16 @@ void read_params(JsonObject& o, const std::vector<ParamInfo>& table, Params& par
     }
 }
 
+// "multiscale": {"mode": "auto", "aggregation": "mixture", "multiscale_...": number, ...}
+void read_multiscale(JsonObject o, MultiscaleSettings& m) {
+    m.mode = *parse_multiscale_mode(o.choice("mode", multiscale_mode_name(m.mode), {"near", "multi", "far", "auto"}));
+    m.aggregation = *parse_multiscale_aggregation(
+        o.choice("aggregation", multiscale_aggregation_name(m.aggregation), {"mixture", "aggregate"}));
+    read_params(o, multiscale_param_table(), m);
+    check_multiscale_settings(m, o.file(), o.path());
+    o.finish();
+}
+
 // The fiber BCSDF's parameters: an optional "preset" (Khungurn et al.'s fits), then overrides.
 void read_fiber_params(JsonObject& o, FiberBcsdfParams& p) {
     if (o.has("preset")) {
@@ -163,9 +188,40 @@ MaterialDesc read_material(JsonObject o) {
     return m;
 }
 
+// A yarn set's "material", with "preset"/"preset_file" resolved (scene/material_preset.h):
+// the preset is checked on its own first, so its mistakes are reported against its own file.
+MaterialDesc read_material_entry(JsonObject& yarn_set, const std::string& base_dir) {
+    JsonObject given = yarn_set.object("material");
+    const json& value = yarn_set.raw("material");
+    if (!value.is_object() || !material_uses_preset(value)) return read_material(given);
+    const MaterialPreset preset = load_material_preset(value, given.file(), given.path(), base_dir);
+    read_material(JsonObject(preset.material, "material", preset.path));
+    const json merged = merge_material(preset.material, value);
+    return read_material(JsonObject(merged, given.path(), given.file()));
+}
+
 void transform_curves(YarnCurves& curves, const Transform& t) {
     const float scale = t.uniform_scale();
     for (Vec4& p : curves.control_points) p = Vec4(t.point(p.xyz()), p.w * scale);
+}
+
+// "curve_colors": [[r, g, b], ...], one linear RGB colour per curve of the set.
+void read_curve_colors(JsonObject& o, YarnCurves& curves) {
+    const json& list = o.raw("curve_colors");
+    const std::string place = o.child_path("curve_colors");
+    if (!list.is_array() || list.size() != curves.curve_count())
+        o.fail("curve_colors", "must be a list of " + std::to_string(curves.curve_count()) +
+                                   " [r, g, b] colours, one per curve");
+    curves.colors.clear();
+    for (size_t c = 0; c < list.size(); ++c) {
+        const json& rgb = list[c];
+        const std::string where = place + "[" + std::to_string(c) + "]";
+        if (!rgb.is_array() || rgb.size() != 3 || !rgb[0].is_number() || !rgb[1].is_number() || !rgb[2].is_number())
+            throw InputError(o.file(), where, "must be [r, g, b], three numbers");
+        const Vec3 color(rgb[0].get<float>(), rgb[1].get<float>(), rgb[2].get<float>());
+        check_curve_color(color, o.file(), where);
+        curves.colors.push_back(color);
+    }
 }
 
 YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays) {
@@ -199,7 +255,8 @@ YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const Exter
         y.curves = generate_swatch(kind, options);
     }
     if (o.has("matrix_world")) transform_curves(y.curves, o.transform("matrix_world"));
-    if (o.has("material")) y.material = read_material(o.object("material"));
+    if (o.has("curve_colors")) read_curve_colors(o, y.curves);
+    if (o.has("material")) y.material = read_material_entry(o, base_dir);
     o.finish();
     validate_curves(y.curves, o.file() + ": " + o.path());
     return y;
@@ -231,12 +288,13 @@ MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArra
     }
     for (uint32_t index : m.indices)
         if (index >= m.vertices.size()) o.fail(nullptr, "triangle index out of range");
-    for (const Vec3& p : m.vertices)
-        if (!is_finite(p)) o.fail(nullptr, "vertex position is not finite");
     if (o.has("matrix_world")) {
         const Transform t = o.transform("matrix_world");
         for (Vec3& p : m.vertices) p = t.point(p);
     }
+    // After matrix_world: finite numbers times a large scale can overflow to infinity.
+    for (const Vec3& p : m.vertices)
+        if (!is_finite(p)) o.fail(nullptr, "vertex position is not finite (after matrix_world)");
     m.color = o.vec3("color", m.color);
     m.holdout = o.boolean("holdout", false);
     o.finish();
@@ -254,20 +312,32 @@ YarnModel parse_yarn_model(const std::string& name, const std::string& source) {
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,
                            const std::string& base_dir, const ExternalArrays* arrays) {
-    json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        // nlohmann counts bytes from 1; report the line and column a person can find.
-        const size_t end = std::min<size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    // nlohmann counts bytes from 1; report the line and column a person can find.
+    const auto place_of = [&](size_t byte) {
+        const size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
         size_t line = 1, column = 1;
         for (size_t i = 0; i < end; ++i) {
             if (text[i] == '\n') { ++line; column = 1; } else { ++column; }
         }
+        return "line " + std::to_string(line) + ", column " + std::to_string(column);
+    };
+    json root;
+    try {
+        root = json::parse(text);
+    } catch (const json::parse_error& e) {
         const std::string what = e.what();
         const size_t detail = what.find("syntax error");
-        throw InputError(source, "line " + std::to_string(line) + ", column " + std::to_string(column),
+        throw InputError(source, place_of(e.byte),
                          "not valid JSON" + (detail == std::string::npos ? "" : " (" + what.substr(detail) + ")"));
+    } catch (const json::exception& e) {
+        // A number beyond the double range ("1e400") is out_of_range 406, which carries no
+        // byte position; its message quotes the number, so the place is where that first occurs.
+        const std::string what = e.what();
+        const size_t open = what.find('\''), close = what.rfind('\'');
+        const size_t at = open < close ? text.find(what.substr(open + 1, close - open - 1)) : std::string::npos;
+        const size_t detail = what.find("] ");
+        throw InputError(source, at == std::string::npos ? "" : place_of(at + 1),
+                         "not valid JSON (" + (detail == std::string::npos ? what : what.substr(detail + 2)) + ")");
     }
     SceneDesc scene;
     scene.source = source;
@@ -300,11 +370,22 @@ SceneDesc parse_view_text(const std::string& text, const std::string& source) {
 }
 
 SceneDesc load_scene_file(const std::string& path) {
+    // Checked before reading: a FIFO would block, and parsing a file of gigabytes would take
+    // about ten times its size in memory (docs/robustness.md).
+    constexpr uintmax_t kMaxSceneBytes = uintmax_t(256) << 20;
+    std::error_code ec;
+    if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
+        throw InputError(path, "", "not a regular file");
+    const uintmax_t bytes = fs::file_size(path, ec);
+    if (!ec && bytes > kMaxSceneBytes)
+        throw InputError(path, "", "file too large: " + std::to_string(bytes) + " bytes, scene files may have at most " +
+                                       std::to_string(kMaxSceneBytes) + " (256 MiB; give big meshes and yarns as OBJ/BCC files)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path, "", "cannot open file");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return parse_scene_text(buffer.str(), path, fs::path(path).parent_path().string());
+    std::string text(static_cast<size_t>(ec ? 0 : bytes), '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!in) throw InputError(path, "", "cannot read file");
+    return parse_scene_text(text, path, fs::path(path).parent_path().string());
 }
 
 }  // namespace purl

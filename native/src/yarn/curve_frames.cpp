@@ -93,6 +93,21 @@ float segment_length(const Vec4* cp, float t0, float t1) {
     return sum * half;
 }
 
+// The uniform cubic B-spline segment in the power basis (its Taylor expansion at t = 0), so
+// position and derivatives at any t are a few multiply-adds.
+void expand_polynomials(const Vec4* cp, SegmentExpansion& e) {
+    e.points = cp;
+    const Vec3 p0 = cp[0].xyz(), p1 = cp[1].xyz(), p2 = cp[2].xyz(), p3 = cp[3].xyz();
+    e.c0 = (p0 + p1 * 4.0f + p2) * (1.0f / 6);
+    e.c1 = (p2 - p0) * 0.5f;
+    e.c2 = (p0 - p1 * 2.0f + p2) * 0.5f;
+    e.c3 = (p3 - p0 + (p1 - p2) * 3.0f) * (1.0f / 6);
+    e.r0 = (cp[0].w + 4 * cp[1].w + cp[2].w) * (1.0f / 6);
+    e.r1 = (cp[2].w - cp[0].w) * 0.5f;
+    e.r2 = (cp[0].w - 2 * cp[1].w + cp[2].w) * 0.5f;
+    e.r3 = (cp[3].w - cp[0].w + 3 * (cp[1].w - cp[2].w)) * (1.0f / 6);
+}
+
 }  // namespace
 
 CurveFrames::CurveFrames(const CurveView& curve) : view_(curve) {
@@ -172,31 +187,49 @@ CurveFrames::CurveFrames(const CurveView& curve) : view_(curve) {
     }
 }
 
-CurvePoint CurveFrames::evaluate_centreline(uint32_t segment, float t) const {
+SegmentExpansion CurveFrames::expand(uint32_t segment) const {
     const Vec4* cp = view_.segment_points(segment);
-    const SegmentGeometry g = segment_geometry(cp, t);
+    SegmentExpansion e;
+    expand_polynomials(cp, e);
+    if (knots_.empty()) return e;  // centre-line only (an empty object has no frames)
+    const Vec3 end = (cp[3].xyz() - cp[1].xyz()) * 0.5f;
+    e.start_speed = length(e.c1);
+    e.end_speed = length(end);
+    e.start_tangent = e.start_speed > 1e-20f ? e.c1 / e.start_speed : start_tangent(cp);
+    e.start_normal = knots_[segment].xyz();
+    e.start_side = cross(e.start_tangent, e.start_normal);
+    e.twist = twist_[segment];
+    e.start_length = knots_[segment].w;
+    e.end_length = knots_[segment + 1].w;
+    return e;
+}
+
+CurvePoint SegmentExpansion::evaluate_centreline(float t) const {
     CurvePoint c;
-    c.position = g.position;
-    c.radius = g.radius;
-    c.speed = length(g.d1);
-    c.tangent = safe_direction(g.d1, cp);
+    c.position = c0 + (c1 + (c2 + c3 * t) * t) * t;
+    const Vec3 d1 = c1 + (c2 * 2.0f + c3 * (3 * t)) * t, d2 = c2 * 2.0f + c3 * (6 * t);
+    c.radius = r0 + (r1 + (r2 + r3 * t) * t) * t;
+    c.speed = length(d1);
+    c.tangent = c.speed > 1e-20f ? d1 / c.speed : safe_direction(d1, points);
     const float inv_speed = c.speed > 1e-20f ? 1.0f / c.speed : 0.0f;
-    c.curvature = (g.d2 - c.tangent * dot(g.d2, c.tangent)) * (inv_speed * inv_speed);
+    c.curvature = (d2 - c.tangent * dot(d2, c.tangent)) * (inv_speed * inv_speed);
     c.arc_length = 0;
     return c;
 }
 
-CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
-    const Vec4* cp = view_.segment_points(segment);
-    CurvePoint c = evaluate_centreline(segment, t);
+CurvePoint CurveFrames::evaluate_centreline(uint32_t segment, float t) const {
+    // Only the polynomial part of the expansion (cheap); no frame constants.
+    SegmentExpansion e;
+    expand_polynomials(view_.segment_points(segment), e);
+    return e.evaluate_centreline(t);
+}
+
+CurvePoint SegmentExpansion::evaluate(float t) const {
+    CurvePoint c = evaluate_centreline(t);
 
     // The start normal, turned about the start tangent by the segment's share of twist, then
     // carried onto this tangent by the smallest rotation (exactly the end normal at t = 1).
-    const Vec4 ka = knots_[segment], kb = knots_[segment + 1];
-    const Vec3 start = (cp[2].xyz() - cp[0].xyz()) * 0.5f, end = (cp[3].xyz() - cp[1].xyz()) * 0.5f;
-    const float v0 = length(start), v1 = length(end);
-    const Vec3 ta = v0 > 1e-20f ? start / v0 : start_tangent(cp);
-    const float turn = twist_[segment] * clamp(t, 0.0f, 1.0f);
+    const float turn = twist * clamp(t, 0.0f, 1.0f);
     float cos_turn, sin_turn;
     if (std::fabs(turn) < 0.25f) {  // series to x^5: error below 1e-7 here
         const float x2 = turn * turn;
@@ -206,9 +239,10 @@ CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
         cos_turn = std::cos(turn);
         sin_turn = std::sin(turn);
     }
-    const Vec3 na = ka.xyz() * cos_turn + cross(ta, ka.xyz()) * sin_turn;
-    // na is unit and perpendicular to ta (the knots are orthonormalized at build time), and the
-    // smallest rotation keeps both: only the half-turn branch needs orthonormalizing.
+    const Vec3 na = start_normal * cos_turn + start_side * sin_turn;
+    // na is unit and perpendicular to the start tangent (the knots are orthonormalized at build
+    // time), and the smallest rotation keeps both: only the half-turn branch needs orthonormalizing.
+    const Vec3& ta = start_tangent;
     const float ct = dot(ta, c.tangent);
     if (ct > -0.9f) {
         const Vec3 k = cross(ta, c.tangent);
@@ -220,13 +254,13 @@ CurvePoint CurveFrames::evaluate(uint32_t segment, float t) const {
 
     // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.
     if (t < 0) {
-        c.arc_length = ka.w + t * v0;
+        c.arc_length = start_length + t * start_speed;
     } else if (t > 1) {
-        c.arc_length = kb.w + (t - 1) * v1;
+        c.arc_length = end_length + (t - 1) * end_speed;
     } else {
         const float t2 = t * t, t3 = t2 * t;
-        c.arc_length = (2 * t3 - 3 * t2 + 1) * ka.w + (t3 - 2 * t2 + t) * v0 + (-2 * t3 + 3 * t2) * kb.w +
-                       (t3 - t2) * v1;
+        c.arc_length = (2 * t3 - 3 * t2 + 1) * start_length + (t3 - 2 * t2 + t) * start_speed +
+                       (-2 * t3 + 3 * t2) * end_length + (t3 - t2) * end_speed;
     }
     return c;
 }

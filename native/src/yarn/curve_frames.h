@@ -51,6 +51,24 @@ struct CurvePoint {
     float arc_length;  // v_yarn: m from the root along the centre-line
 };
 
+// One segment's centre-line as polynomials in t, plus the constants its frame needs (start
+// tangent and normal, twist, end speeds, boundary arc lengths): everything evaluate() needs
+// that does not depend on t, computed once. CurveFrames::evaluate goes through it, so a caller
+// that keeps an expansion (CachedCurve) gets exactly the same numbers without recomputing the
+// B-spline basis and the frame constants at every Newton step.
+struct SegmentExpansion {
+    const Vec4* points = nullptr;  // the segment's 4 control points (zero-speed fallbacks)
+    Vec3 c0, c1, c2, c3;           // position = c0 + c1 t + c2 t^2 + c3 t^3
+    float r0 = 0, r1 = 0, r2 = 0, r3 = 0;  // radius, the same way
+    Vec3 start_tangent, start_normal, start_side;  // at t = 0; side = tangent x normal
+    float twist = 0;                 // turn of the normal about start_tangent over the segment, rad
+    float start_speed = 0, end_speed = 0;    // |dC/dt| at t = 0 and 1
+    float start_length = 0, end_length = 0;  // arc length from the root at t = 0 and 1
+
+    CurvePoint evaluate(float t) const;
+    CurvePoint evaluate_centreline(float t) const;
+};
+
 class CurveFrames {
 public:
     CurveFrames() = default;
@@ -58,10 +76,11 @@ public:
     // segments gives an empty object (segment_count() == 0) that must not be queried.
     explicit CurveFrames(const CurveView& curve);
 
-    CurvePoint evaluate(uint32_t segment, float t) const;
+    CurvePoint evaluate(uint32_t segment, float t) const { return expand(segment).evaluate(t); }
     // Position, tangent, curvature, speed and radius only (normal, binormal and arc length
     // are left zero): enough to project points onto the centre-line, at a third of the cost.
     CurvePoint evaluate_centreline(uint32_t segment, float t) const;
+    SegmentExpansion expand(uint32_t segment) const;
     // Moves (segment, t) by dt across segment boundaries (wrapping on closed loops).
     // Open curves stop at their ends (t may extrapolate at most half a segment past them);
     // returns false when it had to stop.
@@ -86,6 +105,39 @@ private:
     std::vector<Vec4> knots_;
     std::vector<float> twist_;  // per segment: turn of the normal about the start tangent, rad
     float reference_radius_ = 0;
+};
+
+// A few segment expansions of one curve kept for the length of one query (not shared between
+// threads): the stretch of yarn a ray crosses spans a handful of segments, each evaluated many
+// times by the ply search. Direct-mapped by segment index; same results as CurveFrames.
+class CachedCurve {
+public:
+    explicit CachedCurve(const CurveFrames& frames) : frames_(frames) {
+        for (uint32_t& tag : tags_) tag = kEmpty;
+    }
+    const CurveFrames& frames() const { return frames_; }
+    uint32_t segment_count() const { return frames_.segment_count(); }
+    bool closed() const { return frames_.closed(); }
+    CurvePoint evaluate(uint32_t segment, float t) const { return segment_expansion(segment).evaluate(t); }
+    const SegmentExpansion& segment_expansion(uint32_t segment) const {
+        const uint32_t slot = segment % kSlots;
+        if (tags_[slot] != segment) {
+            slots_[slot] = frames_.expand(segment);
+            tags_[slot] = segment;
+        }
+        return slots_[slot];
+    }
+
+private:
+    static constexpr uint32_t kSlots = 8;
+    static constexpr uint32_t kEmpty = ~0u;
+    const CurveFrames& frames_;
+    mutable uint32_t tags_[kSlots];
+    // Left uninitialized (a slot is read only after its tag is set): zeroing a kilobyte per
+    // query would cost a noticeable share of it.
+    union {
+        mutable SegmentExpansion slots_[kSlots];
+    };
 };
 
 // Frames for a set of chain curves laid out as YarnCurves stores them (offsets[c] ..

@@ -79,5 +79,8 @@ struct PlyHit {
 // pass-through with a finite exit distance.
 PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
                    const PlyTraceOptions& options = {});
+// The same with the curve's twist rates already at hand (yarn_twist(frames, d)).
+PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
+                   const YarnTubeHit& hit, const PlyTraceOptions& options = {});
 
 }  // namespace purl

@@ -13,6 +13,13 @@ ParamInfo field(const char* name, const char* unit, float lo, float hi, float de
                 size_t offset) {
     return {name, unit, 1, lo, hi, {def, 0, 0}, doc, offset, false};
 }
+// A parameter that only takes whole numbers (stored as a float like the others).
+ParamInfo whole(const char* name, const char* unit, float lo, float hi, float def, const char* doc,
+                size_t offset) {
+    ParamInfo info = field(name, unit, lo, hi, def, doc, offset);
+    info.is_integer = true;
+    return info;
+}
 
 // The prototype's three touching plies: ply radius 0.9 at yarn radius 2.
 constexpr float kPrototypePlyRadius = 0.45f;
@@ -20,7 +27,7 @@ constexpr float kPrototypePlyRadius = 0.45f;
 std::vector<ParamInfo> build_table() {
     const float touching_distance = kPrototypePlyRadius / std::sin(kPi / 3);
     return {
-        field("ply_count", "", 1, kMaxPlies, 3, "Number of plies in the yarn (whole number).",
+        whole("ply_count", "", 1, kMaxPlies, 3, "Number of plies in the yarn (whole number).",
               offsetof(YarnDescription, ply_count)),
         field("ply_radius", "R", 0.02f, 1, kPrototypePlyRadius, "Ply radius in yarn radii.",
               offsetof(YarnDescription, ply_radius)),
@@ -32,7 +39,7 @@ std::vector<ParamInfo> build_table() {
               offsetof(YarnDescription, ply_twist)),
         field("ply_handedness", "", -1, 1, 1, "+1 for Z-twisted (right-handed) plies, -1 for S.",
               offsetof(YarnDescription, ply_handedness)),
-        field("fiber_count", "", 1, 2000, 25, "Fibers per ply (whole number).",
+        whole("fiber_count", "", 1, 2000, 25, "Fibers per ply (whole number).",
               offsetof(YarnDescription, fiber_count)),
         field("fiber_radius", "ply radii", 0.002f, 0.5f, 1.0f / std::sqrt(50.0f),
               "Fiber radius in ply radii.", offsetof(YarnDescription, fiber_radius)),
@@ -56,13 +63,13 @@ std::vector<ParamInfo> build_table() {
         field("density_beta", "", 0, 4, 0.5f,
               "Zhao's beta: exponent of the fiber density fall-off toward the ply boundary.",
               offsetof(YarnDescription, density_beta)),
-        field("map_resolution", "", 16, 4096, 256,
+        whole("map_resolution", "", 16, 4096, 256,
               "Samples around the circumference in each 1D fiber and ply-shadow map (whole number).",
               offsetof(YarnDescription, map_resolution)),
-        field("migration_variants", "", 1, 16, 4,
+        whole("migration_variants", "", 1, 16, 4,
               "Fiber-map variants switched along each ply to imitate migration (whole number).",
               offsetof(YarnDescription, migration_variants)),
-        field("seed", "", 0, 1 << 24, 1, "Seed of the procedural fiber cross-sections (whole number).",
+        whole("seed", "", 0, 1 << 24, 1, "Seed of the procedural fiber cross-sections (whole number).",
               offsetof(YarnDescription, seed)),
     };
 }

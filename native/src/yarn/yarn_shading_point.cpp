@@ -7,8 +7,10 @@
 
 namespace purl {
 
-YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d,
-                               const FiberMaps& maps, uint32_t curve_key) {
+namespace {
+
+YarnShadingPoint shade(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
+                       const FiberMaps& maps, uint32_t curve_key) {
     YarnShadingPoint sp;
     sp.converged = hit.converged;
     sp.iterations = hit.iterations;
@@ -19,7 +21,6 @@ YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, con
         sp.position = hit.point;
         return sp;
     }
-    const YarnTwist tw = yarn_twist(frames, d);
     sp.hit = true;
     sp.position = hit.point;
     sp.ply_normal = hit.normal;
@@ -60,9 +61,17 @@ YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, con
     return sp;
 }
 
+}  // namespace
+
+YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d,
+                               const FiberMaps& maps, uint32_t curve_key) {
+    return shade(hit, frames, d, yarn_twist(frames, d), maps, curve_key);
+}
+
 YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const FiberMaps& maps,
                                 const YarnTubeHit& hit, uint32_t curve_key, const PlyTraceOptions& options) {
-    return shade_ply_hit(trace_plies(frames, d, hit, options), frames, d, maps, curve_key);
+    const YarnTwist tw = yarn_twist(frames, d);  // once for both halves of the query
+    return shade(trace_plies(frames, d, tw, hit, options), frames, d, tw, maps, curve_key);
 }
 
 }  // namespace purl

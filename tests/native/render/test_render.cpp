@@ -102,7 +102,9 @@ TEST(Render, PassesDescribeTheFirstHit) {
         } else {
             // Sample 0 saw the plane, 3 m along the view axis; other samples may have seen a yarn.
             EXPECT_LE(depth->pixels[i], 3.0f + 1e-3f);
-            if (depth->pixels[i] > 3.0f - 1e-3f) EXPECT_NEAR(normal->pixels[3 * i + 2], 1.0f, 1e-4f);
+            if (depth->pixels[i] > 3.0f - 1e-3f) {
+                EXPECT_NEAR(normal->pixels[3 * i + 2], 1.0f, 1e-4f);
+            }
         }
     }
     EXPECT_GT(yarn_pixels, 10);

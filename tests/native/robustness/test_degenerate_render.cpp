@@ -23,8 +23,8 @@ std::vector<Vec4> points(std::initializer_list<Vec3> xyz, float radius = kR) {
 }
 
 // Every degenerate shape side by side, around the origin, about 1 m across; with
-// `zero_length_loop`, also closed loops with zero-length segments (the renderer hangs on
-// those today, see the disabled test below).
+// `zero_length_loop`, also closed loops with zero-length segments (these once hung the
+// renderer, see BysdfZeroLengthClosedLoopFinishes).
 YarnCurves degenerate_curves(bool zero_length_loop) {
     YarnCurves c;
     auto add = [&](const std::vector<Vec4>& p, bool closed = false) { c.add_curve(p.data(), p.size(), closed); };
@@ -119,11 +119,10 @@ TEST(DegenerateCurves, BysdfRenderFinishesWithFinitePixels) { render_and_check("
 
 TEST(DegenerateCurves, PlaceholderRenderFinishesWithFinitePixels) { render_and_check("placeholder", true); }
 
-// Hangs today (both closed loops; alone, each hangs a 24 x 16 render): on a zero-speed segment yarn_tube.cpp's project() steps dt = ds / 1e-30, and
-// CurveFrames::advance (yarn/curve_frames.cpp) then loops `t += 1` on a closed loop with
-// t near -1e28, which float cannot change. Needs dt clamped to a segment in project() and
-// closed-loop wrapping by fmod (non-finite t as leaving) in advance(); see docs/robustness.md.
-TEST(DegenerateCurves, DISABLED_BysdfZeroLengthClosedLoopFinishes) { render_and_check("bysdf", true); }
+// Once hung: on a zero-speed segment yarn_tube.cpp's project() stepped dt = ds / 1e-30 and
+// CurveFrames::advance then looped `t += 1` on a closed loop with t near -1e28, which float
+// cannot change. advance() now stops on non-finite or hopeless steps.
+TEST(DegenerateCurves, BysdfZeroLengthClosedLoopFinishes) { render_and_check("bysdf", true); }
 
 // Coordinates far from the origin (1e6 m) with a thin yarn: float precision is coarse there
 // but nothing may turn into NaN or loop.

@@ -59,3 +59,27 @@ TEST(FuzzRegressions, BccBezierConversionOverflowIsAnError) {
               std::string::npos)
         << error;
 }
+
+// The seeds must be inputs the readers accept, or the fuzzers start from error paths only and
+// rarely reach the code behind them. A format change that breaks a seed shows up here:
+// regenerate them with tests/fuzz/make_seeds.py.
+TEST(FuzzRegressions, SeedCorporaAreAccepted) {
+    const fs::path corpus = fs::path(PURL_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
+    int seeds = 0;
+    for (const char* target : {"bcc", "scene_json", "preset"})
+        for (const auto& entry : fs::directory_iterator(corpus / target)) {
+            SCOPED_TRACE(entry.path().string());
+            EXPECT_EQ(replay(target, bytes_of(entry.path())), "");
+            ++seeds;
+        }
+    EXPECT_GE(seeds, 10);
+}
+
+// fuzz_scene_json: a literal beyond the double range escaped parse_scene_text as nlohmann's
+// out_of_range 406 (not an InputError).
+TEST(FuzzRegressions, JsonNumberOverflowIsAnError) {
+    const std::string error = replay("scene_json", bytes_of(kRegressions / "scene_json" / "number_overflow.json"));
+    EXPECT_NE(error.find("fuzz.json: line 1, column 29: not valid JSON (number overflow parsing '1e400')"),
+              std::string::npos)
+        << error;
+}

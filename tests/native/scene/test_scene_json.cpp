@@ -124,3 +124,24 @@ TEST(SceneJson, ReadsObjFilesRelativeToTheScene) {
     }
     std::filesystem::remove_all(dir);
 }
+
+TEST(SceneJson, ReadsTheExplicitModelsOptions) {
+    const SceneDesc defaults = parse_scene_text(scene_with(kCamera), "s.json", "");
+    EXPECT_EQ(defaults.render.model, YarnModel::Bysdf);
+    EXPECT_FLOAT_EQ(defaults.render.explicit_options.ply_tolerance, ExplicitOptions{}.ply_tolerance);
+
+    const SceneDesc s = parse_scene_text(scene_with(kCamera, R"("render": {"model": "fiber", "explicit":
+        {"ply_tolerance": 0.01, "fiber_tolerance": 0.2, "curvature_quantile": 1, "memory_budget_gib": 0.5}})"),
+        "s.json", "");
+    EXPECT_EQ(s.render.model, YarnModel::Fiber);
+    EXPECT_FLOAT_EQ(s.render.explicit_options.ply_tolerance, 0.01f);
+    EXPECT_FLOAT_EQ(s.render.explicit_options.fiber_tolerance, 0.2f);
+    EXPECT_FLOAT_EQ(s.render.explicit_options.curvature_quantile, 1.0f);
+    EXPECT_DOUBLE_EQ(s.render.explicit_options.memory_budget_bytes, 0.5 * 1024 * 1024 * 1024);
+
+    EXPECT_EQ(error_of(scene_with(kCamera, R"("render": {"explicit": {"tolerance": 1}})")),
+              "s.json: render.explicit.tolerance: unknown key");
+    EXPECT_NE(error_of(scene_with(kCamera, R"("render": {"explicit": {"curvature_quantile": 0.1}})"))
+                  .find("render.explicit.curvature_quantile: must be in [0.5"),
+              std::string::npos);
+}

@@ -123,17 +123,18 @@ TEST(ImplicitPlies, RimRayPassesThroughWithItsExitDistance) {
 }
 
 TEST(ImplicitPlies, UnconvergedSearchFallsBackToTheCircularCut) {
-    // No Newton steps allowed: every ply falls back to the tube hit's cross-section, the
-    // result is flagged and still a finite ply hit.
+    // No Newton steps allowed: a ply whose start is not already within tolerance falls back
+    // to the tube hit's cross-section (a start from the cubic through a scan piece's ends can
+    // be, so not every ray needs the fallback); the result is flagged and still a finite ply hit.
     const StraightYarn y;
     const YarnDescription d = touching_plies(5);
     PlyTraceOptions starved;
     starved.max_iterations = 0;
-    int hits = 0;
+    int hits = 0, unconverged = 0;
     for (int i = 0; i < 50; ++i) {
         const YarnTubeHit h = side_hit(y.frames, -0.9f + 0.036f * i, 1.0f, 20.0f);
         const PlyHit imp = trace_plies(y.frames, d, h, starved);
-        EXPECT_FALSE(imp.converged);
+        unconverged += !imp.converged;
         EXPECT_TRUE(finite(imp));
         hits += imp.hit;
         if (imp.hit) {
@@ -141,6 +142,7 @@ TEST(ImplicitPlies, UnconvergedSearchFallsBackToTheCircularCut) {
             EXPECT_NEAR(length(imp.tangent), 1, 1e-4f);
         }
     }
+    EXPECT_GT(unconverged, 40);
     EXPECT_GT(hits, 25);  // the fallback still finds plies
     // With the default budget the same rays converge.
     EXPECT_TRUE(trace_plies(y.frames, d, side_hit(y.frames, 0.1f, 1.0f, 20.0f)).converged);

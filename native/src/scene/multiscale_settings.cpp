@@ -1,0 +1,87 @@
+#include "scene/multiscale_settings.h"
+
+#include <cmath>
+#include <cstddef>
+
+#include "scene/input_error.h"
+
+namespace purl {
+namespace {
+
+ParamInfo scalar(const char* name, const char* unit, float lo, float hi, float def, const char* doc,
+                 size_t offset) {
+    return {name, unit, 1, lo, hi, {def, 0, 0}, doc, offset, false};
+}
+
+std::vector<ParamInfo> build_table() {
+    return {
+        scalar("multiscale_roughness_c", "", 0.25f, 1e6f, 64.0f,
+               "C in beta_multi = beta + (h2 - h1) / C: how much a wide footprint roughens the specular lobes.",
+               offsetof(MultiscaleSettings, roughness_c)),
+        scalar("multiscale_footprint_scale", "px", 0.0f, 16.0f, 1.0f,
+               "Pixel footprint used for the h range, in pixels (0 turns multi-scale into near field).",
+               offsetof(MultiscaleSettings, footprint_scale)),
+        scalar("multiscale_max_h_samples", "", 1.0f, float(kMaxHSamples), 16.0f,
+               "Most azimuthal offsets h traced per camera hit (a whole number).",
+               offsetof(MultiscaleSettings, max_h_samples)),
+        scalar("multiscale_sample_spacing", "fibers", 0.25f, 64.0f, 1.0f,
+               "Footprint width per h sample, in fiber diameters.",
+               offsetof(MultiscaleSettings, sample_spacing)),
+        scalar("multiscale_near_limit", "fibers", 0.0f, 64.0f, 1.0f,
+               "Auto mode shades the near field when the footprint covers fewer fiber diameters than this.",
+               offsetof(MultiscaleSettings, near_limit)),
+    };
+}
+
+}  // namespace
+
+const std::vector<ParamInfo>& multiscale_param_table() {
+    static const std::vector<ParamInfo> table = build_table();
+    return table;
+}
+
+MultiscaleSettings default_multiscale_settings() {
+    MultiscaleSettings s{};
+    apply_defaults(s, multiscale_param_table());
+    return s;
+}
+
+void check_multiscale_settings(const MultiscaleSettings& s, const std::string& file, const std::string& place) {
+    for (const ParamInfo& info : multiscale_param_table()) {
+        const float v = *param_field(s, info);
+        if (!(v >= info.min_value && v <= info.max_value))
+            throw InputError(file, place + "." + info.name,
+                             "value " + std::to_string(v) + " outside [" + std::to_string(info.min_value) + ", " +
+                                 std::to_string(info.max_value) + "]");
+    }
+    if (s.max_h_samples != std::floor(s.max_h_samples))
+        throw InputError(file, place + ".multiscale_max_h_samples", "must be a whole number");
+}
+
+const char* multiscale_mode_name(MultiscaleMode mode) {
+    switch (mode) {
+        case MultiscaleMode::Near: return "near";
+        case MultiscaleMode::Multi: return "multi";
+        case MultiscaleMode::Far: return "far";
+        case MultiscaleMode::Auto: return "auto";
+    }
+    return "auto";
+}
+
+std::optional<MultiscaleMode> parse_multiscale_mode(const std::string& name) {
+    for (MultiscaleMode m : {MultiscaleMode::Near, MultiscaleMode::Multi, MultiscaleMode::Far, MultiscaleMode::Auto})
+        if (name == multiscale_mode_name(m)) return m;
+    return std::nullopt;
+}
+
+const char* multiscale_aggregation_name(MultiscaleAggregation a) {
+    return a == MultiscaleAggregation::Aggregate ? "aggregate" : "mixture";
+}
+
+std::optional<MultiscaleAggregation> parse_multiscale_aggregation(const std::string& name) {
+    if (name == "mixture") return MultiscaleAggregation::Mixture;
+    if (name == "aggregate") return MultiscaleAggregation::Aggregate;
+    return std::nullopt;
+}
+
+}  // namespace purl
