@@ -3,7 +3,7 @@
 A preset file holds the scene format's material object, so the CLI reads the same file:
     {"name": "...", "description": "...", "source": "where the numbers come from",
      "material": {"model": "placeholder", "color": [0.8, 0.2, 0.1]},
-     "blender": {"mode": "AUTO", "color_attribute": ""}}
+     "blender": {"color_attribute": ""}}
 "blender" holds the settings the native material does not read yet; it is optional.
 """
 import json
@@ -117,11 +117,8 @@ def apply_preset(material, preset):
     elif geometry is not None:
         warnings.append("'yarn' is ignored for model '{}'".format(model))
     extra = preset.get("blender") or {}
-    if "mode" in extra:
-        if extra["mode"] in {item[0] for item in properties.MODE_ITEMS}:
-            settings.mode = extra["mode"]
-        else:
-            warnings.append("unknown mode '{}' ignored".format(extra["mode"]))
+    if "mode" in extra:  # presets saved before the scale became a render setting
+        warnings.append("'mode' is a render setting now (Render Properties > Purl > Scale); ignored")
     if "color_attribute" in extra:
         settings.color_attribute = str(extra["color_attribute"])
     return warnings
@@ -140,7 +137,7 @@ def preset_from_material(material, name, description=""):
     return {"name": name, "description": description,
             "source": "saved from Blender material '{}'".format(material.name),
             "material": result_material,
-            "blender": {"mode": settings.mode, "color_attribute": settings.color_attribute}}
+            "blender": {"color_attribute": settings.color_attribute}}
 
 
 def save_preset(material, name, folder=None):

@@ -13,8 +13,8 @@ BLENDER_FLOAT_LIMIT = 3.0e38  # FloatProperty rejects infinite bounds
 MODE_ITEMS = [
     ("AUTO", "Auto", "Pick near, multi or far scale from the yarn's pixel coverage"),
     ("NEAR", "Near", "Always shade plies and fibers individually"),
-    ("MULTI", "Multi", "Blend near and far scale by pixel coverage"),
-    ("FAR", "Far", "Always use the aggregated far-field model"),
+    ("MULTI", "Multi", "Average the yarn over the part a pixel covers (near where it covers one fiber)"),
+    ("FAR", "Far", "Average the whole yarn width (for yarns thinner than a pixel)"),
 ]
 
 # Units of the native declaration -> (Blender subtype, Blender unit).
@@ -104,6 +104,9 @@ class PurlSceneSettings(bpy.types.PropertyGroup):
                            max=1024)
     clamp: FloatProperty(name="Clamp", description="Clamp sample radiance (0 turns clamping off)",
                          default=0.0, min=0.0)
+    multiscale_mode: EnumProperty(name="Scale", items=MODE_ITEMS, default="AUTO",
+                                  description="Which scale of the multi-scale BYSDF shades camera hits "
+                                              "(docs/multiscale.md); bounces are always shaded near")
     use_cycles_composite: BoolProperty(
         name="Composite with Cycles", default=False,
         description="Cycles renders the rest of the scene (yarns hidden from its camera but casting "
@@ -127,8 +130,6 @@ def register():
         "model": StringProperty(name="Model", default=_model_items[0][0]),
         "model_choice": EnumProperty(name="Model", description="Yarn scattering model",
                                      items=_model_enum_items, get=_get_model_index, set=_set_model_index),
-        "mode": EnumProperty(name="Scale", items=MODE_ITEMS, default="AUTO",
-                             description="Which scale of the multi-scale model shades the yarn"),
         "color_attribute": StringProperty(
             name="Colour Attribute",
             description="Per-curve colour attribute of the yarn objects (empty: none)"),

@@ -46,6 +46,7 @@ class PURL_PT_render(PurlPanel, bpy.types.Panel):
         row.prop(settings, "use_animated_seed", text="", icon="TIME")
         layout.prop(settings, "max_depth")
         layout.prop(settings, "clamp")
+        layout.prop(settings, "multiscale_mode")
         layout.prop(context.scene.render, "film_transparent")
         layout.prop(settings, "use_cycles_composite")
         if settings.use_cycles_composite:
@@ -72,7 +73,6 @@ class PURL_PT_material(PurlPanel, bpy.types.Panel):
             row.operator("purl.fit_to_image", text="", icon="IMAGE_DATA")  # addon/fit.py
         layout.use_property_split = True
         layout.prop(settings, "model_choice")
-        layout.prop(settings, "mode")
         values = getattr(settings, "params_" + settings.model, None)
         if values is None:
             layout.label(text="Unknown model '{}'".format(settings.model), icon="ERROR")

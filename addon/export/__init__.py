@@ -46,7 +46,8 @@ def render_settings(scene):
     threads = scene.render.threads if scene.render.threads_mode == "FIXED" else 0
     return {"spp": int(settings.samples), "seed": int(seed) % 2147483647,
             "max_depth": int(settings.max_depth), "threads": int(threads),
-            "clamp": float(settings.clamp)}
+            "clamp": float(settings.clamp),
+            "multiscale": {"mode": settings.multiscale_mode.lower()}}
 
 
 def _guarded(problems, ob, export, *args):

@@ -120,6 +120,14 @@ def test_film_size_percentage_and_transparency(purl, scene):
     assert (film["width"], film["height"], film["transparent"]) == (500, 166, True)
 
 
+def test_render_settings_carry_the_multiscale_mode(purl, core, scene):
+    add_plane(scene)
+    assert export(purl).scene["render"]["multiscale"]["mode"] == "auto"  # the default
+    scene.purl.multiscale_mode = "FAR"
+    render = export(purl).scene["render"]
+    assert render["multiscale"]["mode"] == "far" and render["multiscale"]["mode"] in core.multiscale_modes()
+
+
 # --- lights --------------------------------------------------------------------------------
 
 def test_lights_carry_cycles_values(purl, scene):

@@ -61,7 +61,6 @@ def test_preset_round_trip(purl, core, material, tmp_path):
     names = [p["name"] for p in core.material_parameters(settings.model)]
     group = getattr(settings, "params_" + settings.model)
     before = {name: np.array(getattr(group, name), dtype=float).tolist() for name in names}
-    settings.mode = "FAR"
     settings.color_attribute = "yarn_colour"
     path = presets.save_preset(material, "Round trip", folder=str(tmp_path))
     with open(path) as f:
@@ -70,12 +69,12 @@ def test_preset_round_trip(purl, core, material, tmp_path):
     for name in names:  # change everything, then load the preset back
         prop = group.bl_rna.properties[name]
         setattr(group, name, prop.hard_min if prop.array_length == 0 else [prop.hard_min] * prop.array_length)
-    settings.mode, settings.color_attribute = "NEAR", ""
+    settings.color_attribute = ""
     assert presets.apply_preset(material, presets.read_preset(path)) == []
     after = {name: np.array(getattr(group, name), dtype=float).tolist() for name in names}
     for name in names:
         assert after[name] == pytest.approx(before[name]), name
-    assert settings.mode == "FAR" and settings.color_attribute == "yarn_colour"
+    assert settings.color_attribute == "yarn_colour"
 
 
 def test_presets_menu_lists_shipped_and_user_presets(purl, core, tmp_path, monkeypatch):

@@ -61,7 +61,7 @@ def test_material_panel_shows_every_native_parameter(ui, core, scene):
         plies = set(draw(ui.PURL_PT_material_plies, context))
         assert {"ply_color_count", "ply_color_1", "ply_color_3"} <= plies and "ply_color_4" not in plies
     assert names - {n for n in names if n.startswith("ply_color_")} <= set(shown)
-    assert {"model_choice", "mode", "color_attribute"} <= set(shown)
+    assert {"model_choice", "color_attribute"} <= set(shown)
 
 
 @pytest.mark.parametrize("kind", ["POINT", "SPOT", "SUN", "AREA"])
@@ -73,7 +73,7 @@ def test_light_panel_draws_each_type(ui, scene, kind):
 
 def test_render_and_world_panels_draw(ui, scene):
     context = SimpleNamespace(engine="PURL", scene=scene)
-    assert "samples" in draw(ui.PURL_PT_render, context)
+    assert {"samples", "multiscale_mode"} <= set(draw(ui.PURL_PT_render, context))
     compat.enable_nodes(scene.world)
     assert "default_value" in draw(ui.PURL_PT_world, context)
 

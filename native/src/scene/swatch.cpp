@@ -39,9 +39,21 @@ void check_count(int value, const char* name, int max_value) {
                                              std::to_string(max_value) + ", got " + std::to_string(value));
 }
 
+// Bounds on a swatch's total size, so a typo cannot ask for tens of GB: a weave cell takes about
+// 4 control points, at about 150 B each with Embree and frames (docs/robustness.md, scale test).
+constexpr double kMaxWeaveCells = 4e6, kMaxKnitLoops = 1e6;
+
+void check_total(double cells, double max_cells, const char* what) {
+    if (cells > max_cells)
+        throw InputError("swatch", what, std::string(what) + " " + std::to_string(static_cast<long long>(cells)) +
+                                             " is more than the " + std::to_string(static_cast<long long>(max_cells)) +
+                                             " a swatch may have");
+}
+
 YarnCurves make_knit(const SwatchOptions& opt, double radius, double spacing) {
     check_count(opt.courses, "courses", 2000);
     check_count(opt.wales, "wales", 2000);
+    check_total(double(opt.courses) * opt.wales, kMaxKnitLoops, "courses x wales");
     const double unit = spacing / kKnitWale;  // m per shape unit: R at the default spacing
     const double w = kKnitWale * unit, h = kKnitCourse * unit, a = kKnitNarrow * unit;
     const double b = kKnitHalfHeight * unit, d = kKnitDepth * unit;
@@ -99,6 +111,7 @@ std::vector<Vec4> weave_yarn(const std::vector<double>& level, double s, double 
 YarnCurves make_weave(SwatchKind kind, const SwatchOptions& opt, double radius, double s) {
     check_count(opt.warps, "warps", 5000);
     check_count(opt.wefts, "wefts", 5000);
+    check_total(double(opt.warps) * opt.wefts, kMaxWeaveCells, "warps x wefts");
     if (kind == SwatchKind::Twill) {
         check_count(opt.twill_over, "twill_over", 16);
         check_count(opt.twill_under, "twill_under", 16);

@@ -280,6 +280,19 @@ TEST(Swatch, ParsesKindsAndRejectsBadOptions) {
     opt.warps = 1;
     opt.wefts = 1;
     EXPECT_NO_THROW(validate_curves(generate_swatch(SwatchKind::Plain, opt), "one crossing"));
+    // Each count alone is allowed, their product would be about 10^8 control points: refused
+    // before anything is allocated.
+    opt = SwatchOptions();
+    opt.warps = opt.wefts = 5000;
+    try {
+        generate_swatch(SwatchKind::Plain, opt);
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("warps x wefts 25000000 is more than"), std::string::npos) << e.what();
+    }
+    opt = SwatchOptions();
+    opt.courses = opt.wales = 2000;
+    EXPECT_THROW(generate_swatch(SwatchKind::Knit, opt), InputError);
 }
 
 }  // namespace
