@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "../reference_images.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/input_error.h"
@@ -47,49 +48,13 @@ Rendered render_mode(const Renderer& renderer, MultiscaleMode mode, uint64_t see
     settings.threads = 2;
     RenderControl control;
     const RenderResult r = renderer.render(settings, control);
-    const ImagePass* combined = r.image.find("Combined");
     Rendered out;
     out.stats = r.stats;
-    out.rgb.width = r.image.width;
-    out.rgb.height = r.image.height;
-    out.rgb.rgb.resize(size_t(r.image.width) * r.image.height * 3);
-    for (size_t i = 0; i < size_t(r.image.width) * r.image.height; ++i)
-        for (int c = 0; c < 3; ++c) out.rgb.rgb[i * 3 + c] = combined->pixels[i * combined->channels() + c];
+    out.rgb = combined_rgb(r);
     return out;
 }
 
-void write_rgb_exr(const std::string& path, const ImageRGB& image) {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out) << path;
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-    spec.attribute("compression", "zip");
-    ASSERT_TRUE(out->open(path, spec)) << out->geterror();
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data())) << out->geterror();
-    out->close();
-}
-
-// sqrt(mean((a - b)^2)) / mean(b) over the RGB of kBlock x kBlock block means.
-double relative_rmse(const ImageRGB& a, const ImageRGB& b) {
-    EXPECT_EQ(a.width, b.width);
-    EXPECT_EQ(a.height, b.height);
-    const int w = a.width / kBlock, h = a.height / kBlock;
-    double se = 0, sum = 0;
-    for (int by = 0; by < h; ++by)
-        for (int bx = 0; bx < w; ++bx)
-            for (int c = 0; c < 3; ++c) {
-                double ma = 0, mb = 0;
-                for (int y = by * kBlock; y < (by + 1) * kBlock; ++y)
-                    for (int x = bx * kBlock; x < (bx + 1) * kBlock; ++x) {
-                        const size_t i = (size_t(y) * a.width + x) * 3 + c;
-                        ma += a.rgb[i];
-                        mb += b.rgb[i];
-                    }
-                se += (ma - mb) * (ma - mb) / double(kBlock * kBlock * kBlock * kBlock);
-                sum += mb / double(kBlock * kBlock);
-            }
-    const double n = double(w) * h * 3;
-    return std::sqrt(se / n) / std::max(sum / n, 1e-12);
-}
+double relative_rmse(const ImageRGB& a, const ImageRGB& b) { return block_relative_rmse(a, b, kBlock); }
 
 double image_mean(const ImageRGB& a) {
     double sum = 0;

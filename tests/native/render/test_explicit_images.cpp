@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "../reference_images.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/scene_json.h"
@@ -35,51 +36,10 @@ ImageRGB render_rgb(SceneDesc scene, YarnModel model, uint64_t seed) {
     scene.render.threads = 2;
     const Renderer renderer(std::move(scene));
     RenderControl control;
-    const RenderResult r = renderer.render(control);
-    const ImagePass* combined = r.image.find("Combined");
-    ImageRGB out;
-    out.width = r.image.width;
-    out.height = r.image.height;
-    out.rgb.resize(size_t(out.width) * out.height * 3);
-    for (size_t i = 0; i < size_t(out.width) * out.height; ++i)
-        for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = combined->pixels[i * combined->channels() + c];
-    return out;
+    return combined_rgb(renderer.render(control));
 }
 
-void write_rgb_exr(const std::string& path, const ImageRGB& image) {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out) << path;
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-    spec.attribute("compression", "zip");
-    ASSERT_TRUE(out->open(path, spec)) << out->geterror();
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data())) << out->geterror();
-    out->close();
-}
-
-// sqrt(mean((a - b)^2)) / mean(b) over the RGB of block means.
-double relative_rmse(const ImageRGB& a, const ImageRGB& b) {
-    EXPECT_EQ(a.width, b.width);
-    EXPECT_EQ(a.height, b.height);
-    const int w = a.width / kDownsample, h = a.height / kDownsample;
-    double se = 0, sum = 0;
-    for (int by = 0; by < h; ++by)
-        for (int bx = 0; bx < w; ++bx)
-            for (int c = 0; c < 3; ++c) {
-                double ma = 0, mb = 0;
-                for (int y = by * kDownsample; y < (by + 1) * kDownsample; ++y)
-                    for (int x = bx * kDownsample; x < (bx + 1) * kDownsample; ++x) {
-                        const size_t i = (size_t(y) * a.width + x) * 3 + c;
-                        ma += a.rgb[i];
-                        mb += b.rgb[i];
-                    }
-                ma /= kDownsample * kDownsample;
-                mb /= kDownsample * kDownsample;
-                se += (ma - mb) * (ma - mb);
-                sum += mb;
-            }
-    const double n = double(w) * h * 3;
-    return std::sqrt(se / n) / std::max(sum / n, 1e-12);
-}
+double relative_rmse(const ImageRGB& a, const ImageRGB& b) { return block_relative_rmse(a, b, kDownsample); }
 
 struct Shot {
     const char* scene;

@@ -27,6 +27,7 @@
 #include <sstream>
 #include <string>
 
+#include "../reference_images.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/scene_json.h"
@@ -56,25 +57,7 @@ ImageRGB render_rgb(SceneDesc scene, uint64_t seed, int spp) {
     scene.render.threads = 2;
     const Renderer renderer(std::move(scene));
     RenderControl control;
-    const RenderResult r = renderer.render(control);
-    const ImagePass* combined = r.image.find("Combined");
-    ImageRGB out;
-    out.width = r.image.width;
-    out.height = r.image.height;
-    out.rgb.resize(size_t(out.width) * out.height * 3);
-    for (size_t i = 0; i < size_t(out.width) * out.height; ++i)
-        for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = combined->pixels[i * combined->channels() + c];
-    return out;
-}
-
-void write_rgb_exr(const std::string& path, const ImageRGB& image) {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out) << path;
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-    spec.attribute("compression", "zip");
-    ASSERT_TRUE(out->open(path, spec)) << out->geterror();
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data())) << out->geterror();
-    out->close();
+    return combined_rgb(renderer.render(control));
 }
 
 struct Errors {
