@@ -4,6 +4,8 @@ from importlib import import_module
 
 import bpy
 
+from exr import read_channels
+
 # The add-on's Blender-version helpers (multilayer EXR settings, node trees on 5.0).
 compat = import_module(os.environ["PURL_ADDON_PACKAGE"] + ".compat")
 
@@ -72,3 +74,12 @@ def depsgraph():
     graph = bpy.context.evaluated_depsgraph_get()
     graph.update()
     return graph
+
+
+def save_render_result(scene, path):
+    """Saves Blender's Render Result as a 32-bit multilayer EXR and reads it back: {channel: array}."""
+    settings = scene.render.image_settings
+    compat.set_multilayer_exr(settings)
+    settings.exr_codec, settings.color_depth = "NONE", "32"
+    bpy.data.images["Render Result"].save_render(str(path), scene=scene)
+    return read_channels(str(path))

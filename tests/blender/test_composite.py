@@ -7,7 +7,7 @@ import bpy
 import numpy as np
 import pytest
 
-from builders import add_curve, add_light, add_plane, compat
+from builders import add_curve, add_light, add_plane, compat, save_render_result
 from exr import read_channels
 
 LAYER = "ViewLayer"
@@ -46,11 +46,7 @@ def composite_scene(scene):
 
 def render_channels(scene, path):
     assert bpy.ops.render.render() == {"FINISHED"}
-    settings = scene.render.image_settings
-    compat.set_multilayer_exr(settings)
-    settings.exr_codec, settings.color_depth = "NONE", "32"
-    bpy.data.images["Render Result"].save_render(str(path), scene=scene)
-    return read_channels(str(path))
+    return save_render_result(scene, path)
 
 
 def check_composite(channels, width, height):

@@ -9,8 +9,8 @@ import bpy
 import numpy as np
 import pytest
 
-from builders import add_curve, add_light, compat
-from exr import channel_names, read_channels
+from builders import add_curve, add_light, compat, save_render_result
+from exr import channel_names
 
 LAYER = "ViewLayer"
 
@@ -26,18 +26,10 @@ def yarn_scene(scene):
     return scene
 
 
-def save_result(scene, path):
-    settings = scene.render.image_settings
-    compat.set_multilayer_exr(settings)
-    settings.exr_codec, settings.color_depth = "NONE", "32"
-    bpy.data.images["Render Result"].save_render(str(path), scene=scene)
-    return read_channels(str(path))
-
-
 def test_render_produces_an_image_with_all_passes(core, scene, tmp_path):
     yarn_scene(scene)
     assert bpy.ops.render.render() == {"FINISHED"}
-    channels = save_result(scene, tmp_path / "result.exr")
+    channels = save_render_result(scene, tmp_path / "result.exr")
     for name in ("Combined.R", "Combined.G", "Combined.B", "Combined.A", "Depth.Z",
                  "Normal.X", "Normal.Y", "Normal.Z", "YarnID.X"):
         assert "{}.{}".format(LAYER, name) in channels, sorted(channels)
@@ -79,7 +71,7 @@ def test_bad_objects_are_reported_and_the_rest_renders(purl, core, scene, tmp_pa
     engine = import_module(purl.__name__ + ".engine").PurlRenderEngine
     messages = " | ".join(engine.last_export.problems.messages())
     assert "Broken" in messages and "Empty" in messages
-    channels = save_result(scene, tmp_path / "result.exr")
+    channels = save_render_result(scene, tmp_path / "result.exr")
     assert (channels[LAYER + ".YarnID.X"] > 0).any()
 
 

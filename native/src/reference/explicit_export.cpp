@@ -1,6 +1,5 @@
 #include "reference/explicit_export.h"
 
-#include <cstring>
 #include <fstream>
 
 #include "scene/bcc.h"
@@ -30,26 +29,11 @@ YarnCurves gather_explicit_curves(const SceneDesc& scene, std::vector<uint32_t>*
 }
 
 std::vector<float> bcc_point_radii(const YarnCurves& curves) {
-    // The same walk as write_bcc: chains as they are (closed ones without the 3 wrapped
-    // points), anything else one 4-point curve per segment.
     std::vector<float> radii;
     radii.reserve(curves.point_count());
-    for (size_t c = 0; c < curves.curve_count(); ++c) {
-        const uint32_t begin = curves.curve_offsets[c], end = curves.curve_offsets[c + 1];
-        const uint32_t s0 = curves.segment_offsets[c], s1 = curves.segment_offsets[c + 1];
-        bool chain = (end - begin) == (s1 - s0) + 3;
-        for (uint32_t s = s0; chain && s < s1; ++s) chain = curves.segment_first[s] == begin + (s - s0);
-        const Vec4* p = &curves.control_points[begin];
-        if (chain) {
-            const size_t n = end - begin;
-            bool wrapped = curves.closed[c] && n >= 6;
-            for (size_t i = 0; wrapped && i < 3; ++i) wrapped = std::memcmp(&p[n - 3 + i], &p[i], sizeof(Vec4)) == 0;
-            for (size_t i = 0; i < (wrapped ? n - 3 : n); ++i) radii.push_back(p[i].w);
-        } else {
-            for (uint32_t s = s0; s < s1; ++s)
-                for (int i = 0; i < 4; ++i) radii.push_back(curves.control_points[curves.segment_first[s] + i].w);
-        }
-    }
+    for_each_bcc_curve(curves, [&](const Vec4* p, size_t n, bool) {
+        for (size_t i = 0; i < n; ++i) radii.push_back(p[i].w);
+    });
     return radii;
 }
 

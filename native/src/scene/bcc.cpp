@@ -254,20 +254,8 @@ YarnCurves load_bcc(const std::string& path, float radius) {
     return curves;
 }
 
-void write_bcc(const std::string& path, const YarnCurves& curves, const std::string& info) {
-    // Built in memory first: the header needs the counts, and the file is written in one go.
-    std::string body;
-    uint64_t curve_count = 0, point_count = 0;
-    auto put_curve = [&](const Vec4* p, size_t n, bool closed) {
-        put_u32(body, static_cast<uint32_t>(closed ? -static_cast<int32_t>(n) : static_cast<int32_t>(n)));
-        for (size_t i = 0; i < n; ++i) {
-            put_f32(body, p[i].x);
-            put_f32(body, p[i].y);
-            put_f32(body, p[i].z);
-        }
-        ++curve_count;
-        point_count += n;
-    };
+void for_each_bcc_curve(const YarnCurves& curves,
+                        const std::function<void(const Vec4* points, size_t count, bool closed)>& visit) {
     for (size_t c = 0; c < curves.curve_count(); ++c) {
         const uint32_t begin = curves.curve_offsets[c], end = curves.curve_offsets[c + 1];
         const uint32_t s0 = curves.segment_offsets[c], s1 = curves.segment_offsets[c + 1];
@@ -281,11 +269,27 @@ void write_bcc(const std::string& path, const YarnCurves& curves, const std::str
             bool wrapped = curves.closed[c] && n >= 6;
             for (size_t i = 0; wrapped && i < 3; ++i)
                 wrapped = std::memcmp(&p[n - 3 + i], &p[i], sizeof(Vec4)) == 0;
-            put_curve(p, wrapped ? n - 3 : n, wrapped);
+            visit(p, wrapped ? n - 3 : n, wrapped);
         } else {
-            for (uint32_t s = s0; s < s1; ++s) put_curve(&curves.control_points[curves.segment_first[s]], 4, false);
+            for (uint32_t s = s0; s < s1; ++s) visit(&curves.control_points[curves.segment_first[s]], 4, false);
         }
     }
+}
+
+void write_bcc(const std::string& path, const YarnCurves& curves, const std::string& info) {
+    // Built in memory first: the header needs the counts, and the file is written in one go.
+    std::string body;
+    uint64_t curve_count = 0, point_count = 0;
+    for_each_bcc_curve(curves, [&](const Vec4* p, size_t n, bool closed) {
+        put_u32(body, static_cast<uint32_t>(closed ? -static_cast<int32_t>(n) : static_cast<int32_t>(n)));
+        for (size_t i = 0; i < n; ++i) {
+            put_f32(body, p[i].x);
+            put_f32(body, p[i].y);
+            put_f32(body, p[i].z);
+        }
+        ++curve_count;
+        point_count += n;
+    });
     std::string file;
     file.reserve(kHeaderBytes + body.size());
     file += "BCC";

@@ -10,6 +10,7 @@
 // allocating anything. BCC has no radius: the loader takes one, in the file's units.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,10 +52,14 @@ YarnCurves load_bcc(const std::string& path, float radius);
 // The Y-up -> Z-up rotation (+90 degrees about X; determinant +1, so handedness is kept).
 inline Vec3 bcc_y_up_to_z_up(Vec3 p) { return {p.x, -p.z, p.y}; }
 
-// Writes curves as a Z-up "BS" file. Chains are written as they are (closed loops without
-// their 3 wrapped points, as a negative count); a curve made of independent segments is
-// written as one open 4-point curve per segment. Radii are dropped (BCC has none).
-// Throws InputError if the file cannot be written.
+// The curves as a "BS" file stores them, in file order: a chain as it is (a closed loop
+// without its 3 wrapped points), a curve made of independent segments as one open 4-point
+// curve per segment.
+void for_each_bcc_curve(const YarnCurves& curves,
+                        const std::function<void(const Vec4* points, size_t count, bool closed)>& visit);
+
+// Writes curves as a Z-up "BS" file (for_each_bcc_curve; closed loops as a negative count).
+// Radii are dropped (BCC has none). Throws InputError if the file cannot be written.
 void write_bcc(const std::string& path, const YarnCurves& curves, const std::string& info = "");
 
 }  // namespace purl
