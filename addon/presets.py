@@ -108,6 +108,9 @@ def apply_preset(material, preset):
         return ["model '{}' is not known to this version of Purl".format(model)]
     settings.model = model
     geometry = values.pop("yarn", None)
+    # The explicit-fiber reference's scattering parameters (what a preset was fitted against);
+    # the add-on renders the BYSDF, which does not read them.
+    values.pop("fiber", None)
     _apply_values(getattr(settings, "params_" + model), parameters.parameters(model), values, warnings)
     if isinstance(geometry, dict) and model in parameters.YARN_GEOMETRY_MODELS:
         if "preset" in geometry:

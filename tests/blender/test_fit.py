@@ -20,8 +20,8 @@ def yarn_material(core, scene):
     return material
 
 
-def test_fit_to_image_moves_the_material_toward_the_target(purl, core, scene, yarn_material, tmp_path):
-    params = yarn_material.purl.params_bysdf
+def _render_target(purl, core, params, tmp_path):
+    """A target rendered with a red-brown body albedo; the material then starts grey."""
     params.body_reflection_albedo = (0.6, 0.3, 0.1)
     exported = import_module(purl.__name__ + ".export").export_scene(depsgraph())
     job = core.RenderJob(exported.scene, exported.arrays, "", None)
@@ -29,8 +29,13 @@ def test_fit_to_image_moves_the_material_toward_the_target(purl, core, scene, ya
     job.wait()
     target = tmp_path / "target.exr"
     job.write(str(target))
-
     params.body_reflection_albedo = (0.2, 0.2, 0.2)
+    return target, exported
+
+
+def test_fit_to_image_moves_the_material_toward_the_target(purl, core, scene, yarn_material, tmp_path):
+    params = yarn_material.purl.params_bysdf
+    target, _ = _render_target(purl, core, params, tmp_path)
     preset_path = tmp_path / "fitted.json"
     with bpy.context.temp_override(material=yarn_material):
         result = bpy.ops.purl.fit_to_image(filepath=str(target), params="kxB", iterations=3, samples=4,
@@ -48,3 +53,18 @@ def test_fit_to_image_reports_a_missing_target(core, scene, yarn_material, tmp_p
     with bpy.context.temp_override(material=yarn_material):
         with pytest.raises(RuntimeError, match="no such target image"):
             bpy.ops.purl.fit_to_image(filepath=str(tmp_path / "absent.exr"), params="kxB", iterations=1)
+
+
+def test_fit_job_runs_on_a_worker_thread_and_stops_early(purl, core, scene, yarn_material, tmp_path):
+    """What the panel's modal operator drives: the fit on a thread, stopped by Esc after its first step."""
+    fit = import_module(purl.__name__ + ".fit")
+    target, exported = _render_target(purl, core, yarn_material.purl.params_bysdf, tmp_path)
+    job = fit.FitJob(core, {"scene": exported.scene, "image": str(target)}, exported.arrays, "kxB",
+                     iterations=50, samples=2, name="threaded")
+    job.start()
+    job.stop()
+    job._thread.join(timeout=300)
+    assert job.finished and job.error is None
+    assert job.stopped, "the fit should have seen the stop request"
+    assert job.result["provenance"]["iterations"] < 50
+    assert job.state is not None and job.state["iteration"] <= job.result["provenance"]["iterations"]

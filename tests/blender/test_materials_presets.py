@@ -1,5 +1,6 @@
 """Yarn material settings come from the native parameter declaration; presets round-trip."""
 import json
+import os
 from importlib import import_module
 
 import bpy
@@ -83,6 +84,14 @@ def test_presets_menu_lists_shipped_and_user_presets(purl, core, tmp_path, monke
     (tmp_path / "mine.json").write_text(json.dumps({"name": "My wool", "material": {"model": "placeholder"}}))
     labels = [label for label, _ in presets.list_presets()]
     assert "My wool" in labels
+
+
+def test_shipped_presets_apply_without_warnings(purl, core, material):
+    presets = import_module(purl.__name__ + ".presets")
+    shipped = [path for _, path in presets.list_presets() if os.path.basename(os.path.dirname(path)) == "presets"]
+    assert len(shipped) >= 5
+    for path in shipped:
+        assert presets.apply_preset(material, presets.read_preset(path)) == [], path
 
 
 def test_bad_presets_are_reported(purl, core, material, tmp_path):
