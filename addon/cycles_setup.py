@@ -3,7 +3,8 @@ shader in osl/purl_bysdf.osl (docs/osl.md).
 
 The operator writes two point attributes on each selected Curves object (the arc length from the
 root and a rotation-minimizing reference normal, in object space, so the ply phase follows the
-yarn the way the native core's frames do) and builds, in each of its materials, a Script node wired
+yarn the way the native core's frames do) and one curve attribute (the native curve number, so
+fibers migrate as in the native core) and builds, in each of its materials, a Script node wired
 by drivers to the same Purl material settings the native engine reads (parameters, presets, ply
 colours): switching engine keeps the look, and editing a setting updates both.
 """
@@ -22,6 +23,7 @@ SHADER_PATH = os.path.join(HERE, "osl", "purl_bysdf.osl")
 SHADER_TEXT_NAME = "purl_bysdf.osl"
 ARC_LENGTH_ATTRIBUTE = "purl_arc_length"
 NORMAL_ATTRIBUTE = "purl_reference_normal"
+CURVE_KEY_ATTRIBUTE = "purl_curve_key"
 SCRIPT_NODE_NAME = "Purl BYSDF (OSL)"
 # Yarn structure inputs of the shader; their defaults come from the native yarn description.
 STRUCTURE_INPUTS = ("ply_count", "ply_radius", "ply_distance", "ply_twist", "ply_handedness",
@@ -117,8 +119,21 @@ def curve_frames(points):
     return arc, normals
 
 
-def write_curve_attributes(curves):
-    """Writes purl_arc_length and purl_reference_normal on a hair Curves datablock (object space)."""
+def curve_key_bases(context):
+    """Object name -> the native curve key of its first curve: the Purl engine numbers the curves
+    of all yarn sets in export order, and the fiber-migration hash depends on that number."""
+    from .export import collect_yarns
+    from .export.problems import Problems
+    bases, key = {}, 0
+    for yarn in collect_yarns(context.evaluated_depsgraph_get(), Problems()):
+        bases.setdefault(yarn.source or yarn.name, key)
+        key += yarn.curve_count
+    return bases
+
+
+def write_curve_attributes(curves, key_base=0):
+    """Writes purl_arc_length and purl_reference_normal (object space) on a hair Curves datablock,
+    and purl_curve_key (curve domain: key_base + curve index, exact in a float below 2^24)."""
     count = len(curves.points)
     positions = np.empty(count * 3, dtype=np.float32)
     curves.position_data.foreach_get("vector", positions)
@@ -130,14 +145,16 @@ def write_curve_attributes(curves):
     for c in range(len(offsets) - 1):
         a, b = offsets[c], offsets[c + 1]
         arc[a:b], normals[a:b] = curve_frames(positions[a:b])
-    for name, kind, values, key in ((ARC_LENGTH_ATTRIBUTE, "FLOAT", arc, "value"),
-                                    (NORMAL_ATTRIBUTE, "FLOAT_VECTOR", normals, "vector")):
+    keys = key_base + np.arange(len(offsets) - 1, dtype=np.float32)
+    for name, kind, domain, values, key in ((ARC_LENGTH_ATTRIBUTE, "FLOAT", "POINT", arc, "value"),
+                                            (NORMAL_ATTRIBUTE, "FLOAT_VECTOR", "POINT", normals, "vector"),
+                                            (CURVE_KEY_ATTRIBUTE, "FLOAT", "CURVE", keys, "value")):
         attribute = curves.attributes.get(name)
-        if attribute is not None and (attribute.data_type != kind or attribute.domain != "POINT"):
+        if attribute is not None and (attribute.data_type != kind or attribute.domain != domain):
             curves.attributes.remove(attribute)
             attribute = None
         if attribute is None:
-            attribute = curves.attributes.new(name, kind, "POINT")
+            attribute = curves.attributes.new(name, kind, domain)
         attribute.data.foreach_set(key, values.ravel())
     curves.update_tag()
 
@@ -269,9 +286,10 @@ def build_material(material, structure=None, use_drivers=True):
 
     attribute_node("Purl arc length", ARC_LENGTH_ATTRIBUTE, "arc_length", script.location.y, "Fac")
     attribute_node("Purl reference normal", NORMAL_ATTRIBUTE, "reference_normal", script.location.y - 180, "Vector")
+    attribute_node("Purl curve key", CURVE_KEY_ATTRIBUTE, "curve_key", script.location.y - 360, "Fac")
     settings = getattr(material, "purl", None)
     if settings is not None and settings.color_attribute:
-        attribute_node("Purl yarn colour", settings.color_attribute, "yarn_color", script.location.y - 360, "Color")
+        attribute_node("Purl yarn colour", settings.color_attribute, "yarn_color", script.location.y - 540, "Color")
 
     for name, value in values.items():
         if name in script.inputs:
@@ -303,12 +321,13 @@ def setup_objects(context, objects, structure=None):
     scene.cycles.device = "CPU"
     scene.cycles.shading_system = True
     done, skipped, materials = [], [], []
+    bases = curve_key_bases(context)
     for ob in objects:
         if ob.type not in {"CURVES"}:
             skipped.append((ob.name, "only hair Curves objects carry the attributes the shader reads "
                             "(convert curve objects and particle hair to Curves)"))
             continue
-        write_curve_attributes(ob.data)
+        write_curve_attributes(ob.data, bases.get(ob.name, 0))
         for material in ob.data.materials:
             if material is not None and material not in materials:
                 materials.append(material)

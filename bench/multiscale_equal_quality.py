@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Equal-quality time of the multi-scale modes: the glove (BYSDF) far away and close up,
-near vs multi vs auto (and far on the far view), each against its own converged image.
+"""Equal-quality time of the multi-scale modes: the glove (BYSDF) far away and close up (and
+at mid distance), near vs multi vs far vs auto, each against its own converged image.
 
 For each view and mode one RenderJob (the scene is built once) renders a reference at
 --ref-spp, then --repeats renders at every --spp with other seeds. The modes take turns inside
@@ -16,9 +16,17 @@ The multi-scale modes converge to a different image than near where a yarn is wi
 pixel (and far is wrong there, Khattar et al. 2024 Fig. 8), which is why each mode is
 measured against its own converged image, as the paper does.
 
+Accuracy: each mode's converged image against near's converged image (the near field is the
+ground truth of the model): the ratio of image means, the relative MSE between the two
+converged images and the part of it their own noise explains, (v_mode + v_near) / ref_spp, and
+mean LDR FLIP (bench/metrics.py; None without flip-evaluator).
+
+Modes: near, multi, far, auto, plus far-sampled (multi with a 16-pixel footprint: the sampled
+far field, traced h samples, at every hit) to compare against the tabulated far field.
+
 Usage: PYTHONPATH=<builddir> python3 bench/multiscale_equal_quality.py [--views far,close]
-       [--spp 2,4] [--ref-spp 32] [--repeats 3] [--threads 2] [--scale 1] [--json out.json]
-       [--set multiscale_max_h_samples=5 ...]
+       [--modes near,multi,far,auto,far-sampled] [--spp 2,4] [--ref-spp 32] [--repeats 3]
+       [--threads 2] [--scale 1] [--json out.json] [--set multiscale_max_h_samples=5 ...]
 """
 import argparse
 import copy
@@ -31,8 +39,14 @@ import time
 import numpy as np
 import purlcore
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import metrics  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = os.path.join(ROOT, "tests", "data", "multiscale")  # glove_{close,mid,far}.json
+# label -> (render.multiscale mode, extra render.multiscale settings)
+MODES = {"near": ("near", {}), "multi": ("multi", {}), "far": ("far", {}), "auto": ("auto", {}),
+         "far-sampled": ("multi", {"multiscale_footprint_scale": 16.0})}
 
 
 def load_view(view, scale, overrides):
@@ -62,8 +76,8 @@ def relative_mse(image, reference):
 
 
 def measure_view(view, modes, args):
-    scene = load_view(view, args.scale, args.set)
-    jobs = {m: purlcore.RenderJob(scene, base_dir=SCENES, mode=m) for m in modes}
+    jobs = {m: purlcore.RenderJob(load_view(view, args.scale, {**args.set, **MODES[m][1]}), base_dir=SCENES,
+                                  mode=MODES[m][0]) for m in modes}
     references, hits = {}, {}
     for m in modes:
         start = time.time()
@@ -98,12 +112,21 @@ def measure_view(view, modes, args):
         }
     for m in modes:
         out[m]["speedup_vs_near"] = out["near"]["time_to_target"] / out[m]["time_to_target"]
+        # Accuracy against near's converged image, and how much of the difference is noise.
+        r, n = references[m], references["near"]
+        v_mode = out[m]["variance_times_seconds"] / out[m]["seconds_per_spp"]
+        v_near = out["near"]["variance_times_seconds"] / out["near"]["seconds_per_spp"]
+        out[m]["mean_vs_near"] = float(np.mean(r) / max(np.mean(n), 1e-30))
+        out[m]["relmse_vs_near"] = relative_mse(r, n)
+        out[m]["noise_part_vs_near"] = (v_mode + v_near) / args.ref_spp if m != "near" else 2 * v_near / args.ref_spp
+        out[m]["flip_vs_near"] = metrics.flip(r.astype(np.float32), n.astype(np.float32))
     return out
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--views", default="far,close")
+    ap.add_argument("--modes", default="near,multi,far,auto,far-sampled", help=f"of {', '.join(MODES)}; near first")
     ap.add_argument("--spp", default="2,4", help="sample counts of the timed renders")
     ap.add_argument("--ref-spp", type=int, default=32)
     ap.add_argument("--repeats", type=int, default=3)
@@ -119,19 +142,21 @@ def main():
     start = time.time()
     results = {}
     for view in args.views.split(","):
-        modes = ["near", "multi", "auto"] + (["far"] if view == "far" else [])
-        results[view] = measure_view(view, modes, args)
+        results[view] = measure_view(view, args.modes.split(","), args)
     print(f"\nglove, film {64 * args.scale:.0f} x {80 * args.scale:.0f}, references {args.ref_spp} spp, "
           f"timed at {args.spp} spp x {args.repeats} repeats, {args.threads} threads, "
           f"{time.time() - start:.0f} s in all" + (f", multiscale {args.set}" if args.set else ""))
-    print(f"| view | mode | s per spp | mean h samples | relMSE at {args.spp[-1]} spp | "
-          f"time to relMSE {args.target} (s) | speed-up vs near |")
-    print("|---|---|---|---|---|---|---|")
+    print(f"| view | mode | s per spp | mean h samples | relMSE at {args.spp[0]} / {args.spp[-1]} spp | "
+          f"time to relMSE {args.target} (s) | speed-up vs near | mean vs near | relMSE vs near (noise part) | "
+          f"FLIP vs near |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for view, modes in results.items():
         for m, r in modes.items():
+            flip = "-" if r["flip_vs_near"] is None else f"{r['flip_vs_near']:.4f}"
             print(f"| {view} | {m} | {r['seconds_per_spp']:.3f} | {r['mean_h_samples']:.2f} | "
-                  f"{r['relmse_per_spp'][str(args.spp[-1])]:.4f} | {r['time_to_target']:.1f} | "
-                  f"{r['speedup_vs_near']:.2f} |")
+                  f"{r['relmse_per_spp'][str(args.spp[0])]:.4f} / {r['relmse_per_spp'][str(args.spp[-1])]:.4f} | "
+                  f"{r['time_to_target']:.1f} | {r['speedup_vs_near']:.2f} | {r['mean_vs_near']:.4f} | "
+                  f"{r['relmse_vs_near']:.4f} ({r['noise_part_vs_near']:.4f}) | {flip} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"args": vars(args), "results": results}, f, indent=2)

@@ -5,6 +5,10 @@ renderers from the same centre-line, light and camera, writes the images as .npy
 render times. Run with the PyPI bpy (OSL on):
 
     PURL_BUILD_DIR=<build dir with purlcore> /opt/purl-bpy/bin/python bench/osl_compare.py OUT [SPP]
+        [--scenes 3ply_back,...] [--material '{"body_share": 0}'] [--reference 1024]
+
+(--material overrides material parameters in both renderers, e.g. to isolate one lobe;
+--reference also renders SPP / 4 and a reference at that count, for the time at equal quality.)
 
 then the image metrics (RMSE, mean FLIP) with a Python that has flip-evaluator:
 
@@ -20,7 +24,9 @@ REPO = os.path.dirname(HERE)
 SCENES = [(p, l) for p in (1, 3, 6) for l in ("front", "back", "both")]
 
 
-def render_all(out, spp):
+def render_all(out, spp, names=None, material=None, reference_spp=0):
+    """Renders the scenes at `spp` (the images compared); with reference_spp also at spp / 4 and at
+    reference_spp, for the time at equal quality (relMSE against each renderer's own reference)."""
     import tempfile
     import bpy
     import addon_utils
@@ -39,30 +45,69 @@ def render_all(out, spp):
     os.makedirs(out, exist_ok=True)
     times = {}
     for plies, lighting in SCENES:
+        name = "{}ply_{}".format(plies, lighting)
+        if names and name not in names:
+            continue
         for kind in ("objects", "hair_curves", "lights", "cameras", "materials", "texts", "images"):
             collection = getattr(bpy.data, kind)
             for block in list(collection):
                 collection.remove(block)
         scene = bpy.context.scene
         json_scene = osl_scenes.load_scene(plies, lighting)
+        json_scene["yarns"][0]["material"].update(material or {})
         _, curves = osl_scenes.build_blender_scene(scene, core, json_scene, samples=spp)
         scene.render.threads_mode = "FIXED"
         scene.render.threads = 2
-        name = "{}ply_{}".format(plies, lighting)
-        start = time.perf_counter()
-        cycles = osl_scenes.render_cycles(scene, os.path.join(out, name + "_cycles.exr"))
-        cycles_time = time.perf_counter() - start
-        native_scene, arrays = osl_scenes.native_scene(json_scene, curves, spp)
-        start = time.perf_counter()
-        passes = core.render(native_scene, arrays, threads=2)
-        native_time = time.perf_counter() - start
-        np.save(os.path.join(out, name + "_cycles.npy"), cycles[..., :3])
-        np.save(os.path.join(out, name + "_native.npy"), np.asarray(passes["Combined"])[..., :3])
-        times[name] = {"cycles_s": cycles_time, "native_s": native_time, "spp": spp}
-        print("{}: Cycles+OSL {:.2f} s, native {:.2f} s ({} spp, 2 threads)".format(name, cycles_time, native_time,
-                                                                                     spp), flush=True)
+        times[name] = {}
+        for count, suffix in [(spp, "")] + ([(max(spp // 4, 1), "_low"), (reference_spp, "_ref")] if
+                                            reference_spp else []):
+            scene.cycles.samples = count
+            start = time.perf_counter()
+            cycles = osl_scenes.render_cycles(scene, os.path.join(out, name + "_cycles.exr"))
+            cycles_time = time.perf_counter() - start
+            native_scene, arrays = osl_scenes.native_scene(json_scene, curves, count)
+            start = time.perf_counter()
+            passes = core.render(native_scene, arrays, threads=2)
+            native_time = time.perf_counter() - start
+            np.save(os.path.join(out, name + "_cycles" + suffix + ".npy"), cycles[..., :3])
+            np.save(os.path.join(out, name + "_native" + suffix + ".npy"), np.asarray(passes["Combined"])[..., :3])
+            times[name][suffix or "main"] = {"cycles_s": cycles_time, "native_s": native_time, "spp": count}
+            print("{}: Cycles+OSL {:.2f} s, native {:.2f} s ({} spp, 2 threads)".format(
+                name, cycles_time, native_time, count), flush=True)
     with open(os.path.join(out, "times.json"), "w") as f:
         json.dump(times, f, indent=1)
+
+
+def equal_quality_times(out, name):
+    """Equal quality: the native render's relMSE at the main spp against its own reference. Returns
+    (relMSE Cycles, relMSE native, Cycles spp and seconds for the native relMSE, native seconds),
+    with relMSE taken as c / spp and time as a + b spp (from the main and the low render)."""
+    import numpy as np
+    path = os.path.join(out, "times.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        times = json.load(f).get(name, {})
+    if "_ref" not in times or "_low" not in times:
+        return None
+    main, low = times["main"], times["_low"]
+    rel_mse, cost = {}, {}
+    for renderer in ("cycles", "native"):
+        ref = np.load(os.path.join(out, "{}_{}_ref.npy".format(name, renderer))).astype(np.float64)
+        img = np.load(os.path.join(out, "{}_{}.npy".format(name, renderer))).astype(np.float64)
+        rel_mse[renderer] = float(np.mean((img - ref) ** 2 / (ref ** 2 + 1e-2)))
+        per_spp = max((main[renderer + "_s"] - low[renderer + "_s"]) / (main["spp"] - low["spp"]), 1e-9)
+        cost[renderer] = (max(main[renderer + "_s"] - per_spp * main["spp"], 0.0), per_spp)
+    spp = main["spp"] * rel_mse["cycles"] / max(rel_mse["native"], 1e-12)
+    return (rel_mse["cycles"], rel_mse["native"], spp, cost["cycles"][0] + cost["cycles"][1] * spp,
+            main["native_s"])
+
+
+def srgb(img):
+    """The Standard view transform: clip to [0, 1], sRGB encoding (what a PNG of the render shows)."""
+    import numpy as np
+    c = np.clip(img, 0.0, 1.0)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1 / 2.4) - 0.055).astype(np.float32)
 
 
 def metrics(out):
@@ -71,31 +116,38 @@ def metrics(out):
     rows = []
     for plies, lighting in SCENES:
         name = "{}ply_{}".format(plies, lighting)
+        if not os.path.exists(os.path.join(out, name + "_cycles.npy")):
+            continue
         cycles = np.load(os.path.join(out, name + "_cycles.npy")).astype(np.float32)
         native_img = np.load(os.path.join(out, name + "_native.npy")).astype(np.float32)
         rmse = float(np.sqrt(np.mean((cycles - native_img) ** 2)))
-        peak = float(native_img.max())
-        # HDR-FLIP on the linear images (reference = native).
+        # HDR-FLIP on the linear images (reference = native; FLIP picks the exposures from it);
+        # LDR-FLIP on both through the same Standard view transform.
         _, mean_flip, _ = flip.evaluate(native_img, cycles, "HDR")
-        # The same at a quarter of the pixels (2 x 2 box): how much of the difference is fiber-scale detail.
-        def half(img):
-            h, w = img.shape[0] // 2 * 2, img.shape[1] // 2 * 2
-            return img[:h, :w].reshape(h // 2, 2, w // 2, 2, 3).mean(axis=(1, 3)).astype(np.float32)
-        _, mean_flip_half, _ = flip.evaluate(half(native_img), half(cycles), "HDR")
+        _, mean_flip_ldr, _ = flip.evaluate(srgb(native_img), srgb(cycles), "LDR")
         ratio = float(cycles.mean() / max(native_img.mean(), 1e-12))
-        rows.append((name, rmse, peak, float(mean_flip), float(mean_flip_half), ratio))
-    print("| scene | RMSE | native max | mean FLIP (HDR) | FLIP at 1/2 res | mean Cycles / mean native |")
-    print("|---|---|---|---|---|---|")
-    for name, rmse, peak, f, fh, ratio in rows:
-        print("| {} | {:.4f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} |".format(name, rmse, peak, f, fh, ratio))
-    print("| mean | {:.4f} | | {:.3f} | {:.3f} | |".format(*[np.mean([r[i] for r in rows]) for i in (1, 3, 4)]))
+        quality = equal_quality_times(out, name)
+        rows.append((name, float(mean_flip), float(mean_flip_ldr), rmse, ratio, quality))
+    print("| scene | mean FLIP (HDR) | mean FLIP (LDR, sRGB) | RMSE | mean Cycles / mean native |"
+          " relMSE Cycles / native | Cycles spp, s for the native relMSE | native s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, f, fl, rmse, ratio, q in rows:
+        extra = "{:.1e} / {:.1e} | {:.0f}, {:.1f} | {:.1f}".format(*q) if q else "- | - | -"
+        print("| {} | {:.3f} | {:.3f} | {:.4f} | {:.3f} | {} |".format(name, f, fl, rmse, ratio, extra))
+    print("| mean | {:.3f} | {:.3f} | {:.4f} | | | | |".format(*[np.mean([r[i] for r in rows]) for i in (1, 2, 3)]))
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:]]
-    if "--" in args:
-        args = args[args.index("--") + 1:]
-    if args and args[0] == "--metrics":
-        metrics(args[1])
+    import argparse
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+    if argv and argv[0] == "--metrics":
+        metrics(argv[1])
     else:
-        render_all(args[0], int(args[1]) if len(args) > 1 else 64)
+        parser = argparse.ArgumentParser()
+        parser.add_argument("out")
+        parser.add_argument("spp", nargs="?", type=int, default=64)
+        parser.add_argument("--scenes", help="comma-separated names, e.g. 3ply_back")
+        parser.add_argument("--material", default="{}", help="JSON material overrides for both renderers")
+        parser.add_argument("--reference", type=int, default=0, help="reference spp for the time at equal quality")
+        a = parser.parse_args(argv)
+        render_all(a.out, a.spp, a.scenes.split(",") if a.scenes else None, json.loads(a.material), a.reference)

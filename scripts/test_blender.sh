@@ -5,7 +5,8 @@
 #        wheel inside) installed as an extension
 # Both zips come from scripts/build_addon.sh, run first (its CMake build folder is kept, so a
 # second run only repacks).
-# Installs what is missing (apt: blender, python3-pytest, python3-numpy, python3-venv; pip: bpy).
+# Installs what is missing (apt: blender, python3-pytest, python3-numpy, python3-venv; pip: bpy,
+# flip-evaluator for the OSL-vs-native image test).
 #
 #   scripts/test_blender.sh [3.4|bpy|all] [-- pytest args]
 # Environment:
@@ -38,10 +39,11 @@ ensure_blender() {
 }
 
 ensure_bpy() {
-    if "$VENV/bin/python" -c 'import bpy, pytest, numpy' >/dev/null 2>&1; then return; fi
-    /usr/bin/python3 -m venv "$VENV" 2>/dev/null || { apt_install python3-venv; /usr/bin/python3 -m venv "$VENV"; }
-    log "pip install bpy==$BPY_VERSION into $VENV (about 400 MB)"
-    "$VENV/bin/pip" install -q "bpy==$BPY_VERSION" pytest numpy
+    if "$VENV/bin/python" -c 'import bpy, pytest, numpy, flip_evaluator' >/dev/null 2>&1; then return; fi
+    [ -x "$VENV/bin/python" ] || /usr/bin/python3 -m venv "$VENV" 2>/dev/null ||
+        { apt_install python3-venv; /usr/bin/python3 -m venv "$VENV"; }
+    log "pip install bpy==$BPY_VERSION pytest numpy flip-evaluator into $VENV (about 400 MB)"
+    "$VENV/bin/pip" install -q "bpy==$BPY_VERSION" pytest numpy flip-evaluator
 }
 
 ensure_native() {

@@ -234,7 +234,7 @@ void BM_TubeChord(benchmark::State& state) {
 
 void arguments(benchmark::internal::Benchmark* b) {
     for (int plies : {2, 3, 5, 12})
-        for (int view : {0, 60}) b->Args({plies, view});
+        for (int view : {0, 30, 60, 85}) b->Args({plies, view});
 }
 
 BENCHMARK(BM_Implicit)->Apply(arguments);

@@ -75,6 +75,8 @@ def test_setup_writes_attributes_and_drives_the_script_node(cycles_scene, core):
     ob, _ = osl_scenes.build_blender_scene(cycles_scene, core, json_scene, samples=1)
     data = ob.data
     assert setup.ARC_LENGTH_ATTRIBUTE in data.attributes and setup.NORMAL_ATTRIBUTE in data.attributes
+    keys = data.attributes[setup.CURVE_KEY_ATTRIBUTE]  # the native curve numbers: the only yarn object
+    assert keys.domain == "CURVE" and [k.value for k in keys.data] == list(range(len(data.curves)))
     material = data.materials[0]
     node = material.node_tree.nodes[setup.SCRIPT_NODE_NAME]
     assert node.inputs["ply_count"].default_value == 3
@@ -108,3 +110,24 @@ def test_fig7_scene_renders_in_cycles_with_osl(cycles_scene, core, tmp_path, pli
     # A few rim pixels may be black: the native image has some too (8 at 64 spp in 1 ply, back),
     # and Cycles shades some rim fibers of the baked maps black when back-lit (docs/osl.md).
     assert black.sum() <= 0.02 * yarn.sum(), "{} black yarn pixels of {}".format(int(black.sum()), int(yarn.sum()))
+
+
+# Mean HDR-FLIP of Cycles+OSL against the native core at 96 x 48, 16 spp (seed 1), measured when
+# the shader got the native migration hash and the transmission extinction at the entry
+# (docs/osl.md): 0.140, 0.209, 0.173; other seeds move it by 0.006 at most, the shader before
+# those changes measured 0.155, 0.268, 0.213. A limit about 0.01 above the measurement catches that.
+FLIP_LIMITS = {(1, "front"): 0.150, (3, "back"): 0.220, (6, "both"): 0.185}
+
+
+@needs_osl
+@pytest.mark.parametrize("plies, lighting", sorted(FLIP_LIMITS))
+def test_osl_stays_close_to_the_native_core(cycles_scene, core, tmp_path, plies, lighting):
+    flip = pytest.importorskip("flip_evaluator", reason="flip-evaluator (PyPI) is not installed")
+    json_scene = osl_scenes.load_scene(plies, lighting)
+    json_scene["film"] = {"width": 96, "height": 48}
+    _, curves = osl_scenes.build_blender_scene(cycles_scene, core, json_scene, samples=16)
+    cycles = osl_scenes.render_cycles(cycles_scene, str(tmp_path / "osl.exr"))[..., :3]
+    native_scene, arrays = osl_scenes.native_scene(json_scene, curves, 16)
+    native = np.asarray(core.render(native_scene, arrays, threads=2)["Combined"])[..., :3]
+    _, mean_flip, _ = flip.evaluate(native.astype(np.float32), cycles.astype(np.float32), "HDR")
+    assert mean_flip <= FLIP_LIMITS[(plies, lighting)], "FLIP {:.3f} against the native core".format(mean_flip)

@@ -36,6 +36,7 @@ def run_job(scene, **kwargs):
 def test_parameter_table_and_modes_are_exposed():
     names = [p["name"] for p in purlcore.multiscale_parameters()]
     assert "multiscale_roughness_c" in names and "multiscale_max_h_samples" in names
+    assert "multiscale_far_limit" in names
     assert purlcore.multiscale_modes() == ["near", "multi", "far", "auto"]
 
 

@@ -86,9 +86,17 @@ int h_sample_count(float width, const YarnDescription& d, const MultiscaleSettin
     return n % 2 ? n : n + 1;
 }
 
-MultiscaleSelector::MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink)
-    : settings_(settings), sink_(std::move(sink)) {
+MultiscaleSelector::MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink, size_t yarn_sets)
+    : settings_(settings), sink_(std::move(sink)), tables_(new TableSlot[yarn_sets]), table_count_(yarn_sets) {
     if (!sink_) sink_ = [](const std::string& m) { std::fprintf(stderr, "purl: warning: %s\n", m.c_str()); };
+}
+
+const FarFieldTable* MultiscaleSelector::far_table(size_t set, const YarnDescription& d,
+                                                   const BysdfParams& material) const {
+    if (set >= table_count_) return nullptr;
+    TableSlot& slot = tables_[set];
+    tbb::collaborative_call_once(slot.once, [&] { slot.table = far_field_table(d, material, settings_); });
+    return slot.table.get();
 }
 
 MultiscaleMode MultiscaleSelector::choose(const AzimuthalFootprint& f, const YarnDescription& d) const {
@@ -114,7 +122,10 @@ MultiscaleMode MultiscaleSelector::choose(const AzimuthalFootprint& f, const Yar
             break;
     }
     if (!f.valid) return MultiscaleMode::Near;
-    if (f.covers_yarn()) return MultiscaleMode::Far;
+    // A pixel as wide as the yarn: its footprint may end inside the yarn, but the neighbour
+    // covers the rest, so the whole-yarn average only blurs below a pixel.
+    const float pixel_width = settings_.footprint_scale > 0 ? f.raw_width / settings_.footprint_scale : 0.0f;
+    if (f.covers_yarn() || pixel_width >= 2 * settings_.far_limit) return MultiscaleMode::Far;
     if (f.width() < settings_.near_limit * fiber_feature_width(d)) return MultiscaleMode::Near;
     return MultiscaleMode::Multi;
 }
@@ -246,6 +257,7 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
         c.offset = frame_.to_local(y.position - axis.position) / radius;
         c.h = hit_h[k];
         c.weight = hit_len[k] / hit_length;
+        c.ply = y.ply_index;
     }
     count_ = hit_count;
     same_frame_ = single;
@@ -256,6 +268,16 @@ float MultiscaleBysdf::pass_distance() const {
     return tube_chord_length(*frames_, axis_segment_, axis_t_, entry_.point, entry_.direction);
 }
 
+Vec3 MultiscaleBysdf::component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf) const {
+    const Component& c = components_[k];
+    const Vec3 wo_k = c.frame.to_local(wo), wi_k = c.frame.to_local(wi);
+    const float chord = wo_k.z * wi_k.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
+    if (!pdf) return c.bsdf->eval(wo_k, wi_k, chord) * (c.weight * std::fabs(wi_k.z));
+    const BsdfEvalPdf e = c.bsdf->eval_pdf(wo_k, wi_k, chord);
+    *pdf += c.weight * e.pdf;
+    return e.f * (c.weight * std::fabs(wi_k.z));
+}
+
 BsdfEvalPdf MultiscaleBysdf::evaluate(Vec3 wo, Vec3 wi) const {
     BsdfEvalPdf out;
     if (same_frame_) {
@@ -264,14 +286,7 @@ BsdfEvalPdf MultiscaleBysdf::evaluate(Vec3 wo, Vec3 wi) const {
         return c.bsdf->eval_pdf(wo, wi, chord);
     }
     const float cos_ref = std::fabs(wi.z);
-    for (int k = 0; k < count_; ++k) {
-        const Component& c = components_[k];
-        const Vec3 wo_k = c.frame.to_local(wo), wi_k = c.frame.to_local(wi);
-        const float chord = wo_k.z * wi_k.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
-        const BsdfEvalPdf e = c.bsdf->eval_pdf(wo_k, wi_k, chord);
-        out.f += e.f * (c.weight * std::fabs(wi_k.z));
-        out.pdf += c.weight * e.pdf;
-    }
+    for (int k = 0; k < count_; ++k) out.f += component_integrand(k, wo, wi, &out.pdf);
     // f~ |cos_ref| is the integrand; the reference plane itself carries nothing.
     out.f = cos_ref > kMinCos ? out.f / cos_ref : Vec3(0.0f);
     return out;

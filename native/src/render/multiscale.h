@@ -23,16 +23,23 @@
 //
 // Rays leave from one point: the camera ray's own ply hit, else the hit nearest h0
 // (docs/multiscale.md). The CurveFrames and maps must outlive the model.
+//
+// In the renderer, far hits shade the tabulated far field (far_field.h); this class in mode
+// Far is what the table is built from and tested against.
 #pragma once
+#include <tbb/collaborative_call_once.h>
+
 #include <array>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bsdf/bysdf.h"
 #include "math/frame.h"
+#include "render/far_field.h"
 #include "render/footprint.h"
 #include "scene/multiscale_settings.h"
 #include "yarn/fiber_maps.h"
@@ -52,18 +59,29 @@ int h_sample_count(float width, const YarnDescription& d, const MultiscaleSettin
 class MultiscaleSelector {
 public:
     using WarningSink = std::function<void(const std::string&)>;
-    // An empty sink prints to stderr.
-    explicit MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink = {});
+    // An empty sink prints to stderr. `yarn_sets`: how many far-field tables to keep at hand.
+    explicit MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink = {}, size_t yarn_sets = 0);
     // Near, Multi or Far. Auto: near without a valid footprint or below near_limit fibers,
-    // far when the footprint reaches both silhouettes, multi otherwise.
+    // far when the footprint reaches both silhouettes or one pixel spans far_limit yarn
+    // diameters, multi otherwise.
     MultiscaleMode choose(const AzimuthalFootprint& f, const YarnDescription& d) const;
     bool warned() const { return warned_.load(std::memory_order_relaxed); }
     const MultiscaleSettings& settings() const { return settings_; }
+    // The tabulated far field of yarn set `set` (its description and material), looked up in
+    // the process cache (far_field_table) on first use in this render. Null for set >=
+    // yarn_sets: the caller shades far hits with the sampled far field (MultiscaleBysdf) then.
+    const FarFieldTable* far_table(size_t set, const YarnDescription& d, const BysdfParams& material) const;
 
 private:
+    struct TableSlot {
+        tbb::collaborative_once_flag once;  // threads waiting for the build help with it
+        std::shared_ptr<const FarFieldTable> table;
+    };
     MultiscaleSettings settings_;
     WarningSink sink_;
     mutable std::atomic<bool> warned_{false};
+    std::unique_ptr<TableSlot[]> tables_;
+    size_t table_count_ = 0;
 };
 
 // The yarn a hit belongs to: what SurfaceShader keeps per yarn set and curve.
@@ -94,6 +112,7 @@ public:
         Vec3 offset;                // its ply point minus the axis point, yarn radii, local coordinates
         float h = 0;                // its azimuthal offset
         float weight = 0;           // w_k, summing to 1 over the components
+        int ply = 0;                // ply index of its hit (selects the ply colour)
     };
 
     MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSettings& settings, const MultiscaleQuery& q);
@@ -124,6 +143,8 @@ public:
     int samples() const { return samples_; }        // K, h samples traced
     int components() const { return count_; }       // Mixture: hits among them; Aggregate: 1
     const Component& component(int k) const { return components_[k]; }
+    // Component k's share of the integrand, w_k f_k |cos_k| (attenuated); with `pdf`, adds w_k pdf_k there.
+    Vec3 component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf = nullptr) const;
     float h1() const { return h1_; }
     float h2() const { return h2_; }
     float roughness_increase() const { return roughness_increase_; }  // (h2 - h1) / C_beta

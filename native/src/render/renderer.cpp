@@ -94,10 +94,13 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     // warning goes into the stats, and front ends show it (CLI: stderr).
     std::mutex warnings_mutex;
     std::vector<std::string> warnings;
-    const MultiscaleSelector multiscale(settings.multiscale, [&](const std::string& message) {
-        const std::lock_guard<std::mutex> lock(warnings_mutex);
-        warnings.push_back(message);
-    });
+    const MultiscaleSelector multiscale(
+        settings.multiscale,
+        [&](const std::string& message) {
+            const std::lock_guard<std::mutex> lock(warnings_mutex);
+            warnings.push_back(message);
+        },
+        scene_.yarns.size());
     const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
     tbb::task_arena arena(threads);
     const auto start = Clock::now();
@@ -214,7 +217,7 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             MultiscaleHitContext camera_hit;
             if (depth == 0) camera_hit = {&multiscale, hit_rng.next_float(), hit_rng.next_float()};
             const SurfaceInteraction si = shader_->shade(hit, ray, depth == 0 ? &camera_hit : nullptr);
-            if (si.h_samples > 0) {
+            if (si.multiscale_hit) {
                 ++totals.hits_by_mode[si.multiscale_mode == MultiscaleMode::Far     ? 2
                                       : si.multiscale_mode == MultiscaleMode::Multi ? 1
                                                                                     : 0];

@@ -41,10 +41,14 @@ ShadingPoint::Exit ShadingPoint::leave(Vec3 wi) const {
 Vec3 ShadingPoint::eval(Vec3 wo_world, Vec3 wi_world, float chord, float* pdf_out) const {
     const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
     if (const Bysdf* b = std::get_if<Bysdf>(&bsdf)) return b->eval(wo, wi, chord);
-    if (const MultiscaleBysdf* m = std::get_if<MultiscaleBysdf>(&bsdf); m && pdf_out) {
-        const BsdfEvalPdf r = m->eval_pdf(wo, wi);
-        *pdf_out = r.pdf;
-        return r.f;
+    if (pdf_out) {
+        std::optional<BsdfEvalPdf> r;
+        if (const MultiscaleBysdf* m = std::get_if<MultiscaleBysdf>(&bsdf)) r = m->eval_pdf(wo, wi);
+        if (const FarFieldBsdf* m = std::get_if<FarFieldBsdf>(&bsdf)) r = m->eval_pdf(wo, wi);
+        if (r) {
+            *pdf_out = r->pdf;
+            return r->f;
+        }
     }
     return std::visit([&](const auto& model) { return model.eval(wo, wi); }, bsdf);
 }
@@ -173,6 +177,7 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
     const CurveFrames& frames = data.frames[hit.curve];
     YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
     if (multiscale && multiscale->selector) {
+        out.multiscale_hit = true;
         out.h_samples = 1;  // near unless the selector says otherwise
         if (shade_multiscale(hit, ray, *multiscale, tube_hit, out)) return out;
     }
@@ -211,6 +216,12 @@ bool SurfaceShader::shade_multiscale(const SurfaceHit& hit, const Ray& ray, cons
     q.mode = context.selector->choose(q.footprint, m.yarn);
     q.u_strata = context.u_strata;
     if (q.mode == MultiscaleMode::Near) return false;
+    if (q.mode == MultiscaleMode::Far && !q.footprint.along_yarn) {
+        if (const FarFieldTable* table = context.selector->far_table(hit.object, m.yarn, m.bysdf)) {
+            shade_far(hit, ray, context, *table, q.axis, out);
+            return true;
+        }
+    }
     const MultiscaleYarn yarn{&frames, &m.yarn, data.maps.get(), &data.bysdf(m, hit.curve),
                               curve_key_base_[hit.object] + hit.curve, Vec3(1.0f), {}};
     MultiscaleBysdf model(yarn, ms, q);
@@ -231,6 +242,32 @@ bool SurfaceShader::shade_multiscale(const SurfaceHit& hit, const Ray& ray, cons
     sp.yarn_radius = hit.radius;
     sp.bsdf = std::move(model);
     return true;
+}
+
+void SurfaceShader::shade_far(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
+                              const FarFieldTable& table, const CentrelineProjection& axis,
+                              SurfaceInteraction& out) const {
+    const YarnSetData& data = yarn_sets_[hit.object];
+    const CurveFrames& frames = data.frames[hit.curve];
+    const Vec3 wo = -ray.direction, tangent = axis.point.tangent;
+    out.multiscale_mode = MultiscaleMode::Far;
+    out.h_samples = 0;
+    ShadingPoint& sp = out.point;
+    // +z: the view direction across the yarn (not along_yarn, so it has length), +x: the yarn.
+    sp.frame = Frame::from_normal_tangent(normalize(wo - tangent * dot(wo, tangent)), tangent);
+    const FarFieldBsdf far(table, data.bysdf(scene_.yarns[hit.object].material, hit.curve));
+    if (context.u_pass < far.pass_fraction(sp.frame.to_local(wo))) {
+        out.pass_through = true;
+        out.continue_distance = tube_chord_length(frames, axis.segment, axis.t, hit.position, ray.direction);
+        return;
+    }
+    // Light scatters at the tube entry: a sub-pixel yarn's depth does not show.
+    sp.position = hit.position;
+    sp.tube = &frames;
+    sp.segment = axis.segment;
+    sp.t = axis.t;
+    sp.yarn_radius = hit.radius;
+    sp.bsdf = far;
 }
 
 void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,

@@ -15,6 +15,7 @@
 #include "bsdf/placeholder.h"
 #include "math/frame.h"
 #include "math/ray.h"
+#include "render/far_field.h"
 #include "render/multiscale.h"
 #include "reference/arc_length.h"
 #include "scene/embree_scene.h"
@@ -25,7 +26,7 @@
 
 namespace purl {
 
-using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf, FiberBcsdfRef, MultiscaleBysdf>;
+using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf, FiberBcsdfRef, MultiscaleBysdf, FarFieldBsdf>;
 
 // Multi-scale shading of a camera ray's hit (the ray carries differentials): the render's
 // selector and two per-hit random numbers (h strata jitter, pass-through choice).
@@ -59,7 +60,8 @@ struct ShadingPoint {
     Exit leave(Vec3 wi_world) const;
 
     // `pdf_out`: models that get the pdf with f in one pass (the multi-scale mixture visits all
-    // its components for either) store it there; the others leave it as it was.
+    // its components for either, the far-field table the same cell) store it there; the others
+    // leave it as it was.
     Vec3 eval(Vec3 wo_world, Vec3 wi_world, float chord, float* pdf_out = nullptr) const;
     float pdf(Vec3 wo_world, Vec3 wi_world) const;
     // The sample's f is final: for a transmission through a yarn, attenuated along `exit`.
@@ -70,8 +72,9 @@ struct SurfaceInteraction {
     bool pass_through = false;  // the ray met no ply: continue it `continue_distance` further
     float continue_distance = 0;
     ShadingPoint point;
-    // Camera hits on BYSDF yarns shaded with a MultiscaleHitContext: the mode used and the
-    // h samples traced (1 for near). No context or another material: h_samples = 0.
+    // Camera hits on BYSDF yarns shaded with a MultiscaleHitContext (multiscale_hit): the mode
+    // used and the h samples traced (1 for near, 0 for the tabulated far field).
+    bool multiscale_hit = false;
     MultiscaleMode multiscale_mode = MultiscaleMode::Near;
     int h_samples = 0;
 };
@@ -107,6 +110,9 @@ private:
     // A camera hit on a BYSDF yarn in multi or far mode (false: shade it near).
     bool shade_multiscale(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
                           const YarnTubeHit& tube_hit, SurfaceInteraction& out) const;
+    // Far mode with the tabulated far field: no implicit query; scatters at the tube entry.
+    void shade_far(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
+                   const FarFieldTable& table, const CentrelineProjection& axis, SurfaceInteraction& out) const;
     void shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data, ShadingPoint& sp) const;
     static void recolor_bysdf(const BysdfParams& material, const std::vector<Vec3>& colors, YarnSetData& data);
     const SceneDesc& scene_;

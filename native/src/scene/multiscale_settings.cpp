@@ -30,6 +30,9 @@ std::vector<ParamInfo> build_table() {
         scalar("multiscale_near_limit", "fibers", 0.0f, 64.0f, 1.0f,
                "Auto mode shades the near field when the footprint covers fewer fiber diameters than this.",
                offsetof(MultiscaleSettings, near_limit)),
+        scalar("multiscale_far_limit", "yarns", 0.25f, 64.0f, 1.0f,
+               "Auto mode shades the tabulated far field when one pixel spans at least this many yarn diameters.",
+               offsetof(MultiscaleSettings, far_limit)),
     };
 }
 

@@ -80,10 +80,6 @@ PlyCut cut_at(const CachedCurve& frames, const YarnDescription& d, const YarnTwi
     return cut;
 }
 
-// Closest approaches within a ply radius: one per crossed ply near side views, a few per ply
-// at grazing angles.
-constexpr int kMaxCandidates = 32;
-
 struct Candidate {
     int ply = 0;
     PlyCut cut;
@@ -126,8 +122,14 @@ PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t 
     return h;
 }
 
-constexpr int kMaxScan = 32;  // sub-intervals of the yarn stretch scanned at most
-constexpr int kMaxPlies = 16;  // plies with a precomputed phase offset (descriptions allow 12)
+// A ray passing this close (in tolerances) outside a ply still touches it: the explicit
+// reference counts a hit within 1e-5 R of the surface.
+constexpr float kGraze = 0.1f;
+
+constexpr int kMaxPlies = 16;   // plies with a precomputed phase offset (descriptions allow 12)
+constexpr int kMaxPieces = 32;  // model pieces over the ray's stretch (exact frames: one more)
+constexpr int kSubsteps = 2;    // grid steps per piece at which every ply is checked
+constexpr int kMaxWork = 64;    // model crossings solved per query at most
 
 // cos and sin of every ply's fixed phase offset 2 pi i / N, for every N up to kMaxPlies: built
 // once (thread-safe static), instead of 2N calls to cos and sin per query.
@@ -146,332 +148,435 @@ const PlyOffsets& ply_offsets() {
     return table;
 }
 
-// The plane through the ray in which a ply is cut, and the stretch of curve (in g) to search.
-//  ply plane (default): holds the ray and the direction perpendicular to both the ray and the
-//    ply's own tangent, so the ply's cut is an ellipse centred where its centre-line pierces
-//    the plane: f(g) = (P - x0)_perp . P'_perp (perp: across the ray); rising roots are the
-//    centre-line's closest approaches to the ray.
-//  yarn plane (the paper's literal choice): holds the ray and the direction across the yarn at
-//    the hit, one plane for all plies: f(g) = (P - x0) . n.
-struct CuttingPlane {
-    bool ply_plane = true;
-    Vec3 x0, ray, normal;
-    Vec3 side;  // ray x normal: with `normal`, coordinates across the ray
-    float twist = 0;  // ply_rate, rad/m
-    double g_lo = 0, g_hi = 0;
-    double g_start = 0;  // the tube hit's cross-section
-    int samples = 1;     // sub-intervals of [g_lo, g_hi] scanned for crossings
-    // The yarn at the scan's sample points (evaluated once for all plies, when first needed)
-    // and at g_start.
-    bool sections_ready = false;
-    Slots<CurvePoint, kMaxScan + 1> sections;
-    uint32_t section_segment[kMaxScan + 1];
-    float section_t[kMaxScan + 1];
-    CurvePoint start;
-    uint32_t start_segment = 0;
-    float start_t = 0;
-    // Ply phases by angle addition: each section's yarn phase (ply 0) turned by each ply's
-    // fixed offset 2 pi i / N, so one sine and cosine per section serve all plies.
-    float section_cos[kMaxScan + 1], section_sin[kMaxScan + 1];
-    float start_cos = 1, start_sin = 0;
-    const float* ply_cos = nullptr;  // cos and sin of 2 pi i / plies (from ply_offsets())
-    const float* ply_sin = nullptr;
-    int plies = 0;
+// ---- The local model: the yarn over the ray's stretch in the ray's own coordinates ----------
+// Coordinates: origin at the tube entry, z along the ray, x along the cutting plane's normal
+// (across the ray and the yarn), y = z cross x. The ray is the z axis, so a ply centre's (x, y)
+// is its offset across the ray and z its distance along it.
+//
+// Ply i is C(s) + Re[e^{i phi_i} A(s)] with phi_i = 2 pi i / N and A = a (N - iB) e^{i k s}
+// shared by all plies (a: ply distance, k: ply turn rate). Over each piece between two exact
+// frames, C and A are quintic Hermite interpolants in arc length (value, first and second
+// derivative at both ends; the frame's derivatives from the rotation-minimizing law
+// dN/ds = -(kappa.N) T), so each ply is one quintic per axis: its coefficients are
+// C_j + cos(phi_i) Re A_j - sin(phi_i) Im A_j, and everything after that is polynomial
+// arithmetic. On straight yarns the model is exact to rounding; on bends its error is that of
+// quintic Hermite interpolation, h^6 |f^(6)| / 46080 (for a piece of 2 R on a bend of radius
+// 2 R, with the frame turning at up to k + kappa, below 1e-3 R), inside
+// PlyTraceOptions::model_margin (5e-3 R).
 
-    PlyCentre centre(const CurvePoint& yarn, const YarnDescription& d, const YarnTwist& tw, float base_cos,
-                     float base_sin, int ply) const {
-        if (ply >= plies) return ply_centre(yarn, d, tw, ply);
-        const float phase = 2 * kPi * ply / plies + ply_phase(tw, yarn.arc_length);
-        return ply_centre(yarn, d, tw, phase, base_cos * ply_cos[ply] - base_sin * ply_sin[ply],
-                          base_sin * ply_cos[ply] + base_cos * ply_sin[ply]);
+struct Quintic {
+    Vec3 k[6];  // in v = u / h, u the arc length from the piece's start
+
+    static Quintic hermite(Vec3 p0, Vec3 d0, Vec3 a0, Vec3 p1, Vec3 d1, Vec3 a1, float h) {
+        const Vec3 D0 = d0 * h, A0 = a0 * (h * h), D1 = d1 * h, A1 = a1 * (h * h);
+        const Vec3 delta = p1 - p0 - D0 - A0 * 0.5f, slope = D1 - D0 - A0, bend = A1 - A0;
+        return {{p0, D0, A0 * 0.5f, delta * 10.0f - slope * 4.0f + bend * 0.5f,
+                 slope * 7.0f - delta * 15.0f - bend, delta * 6.0f - slope * 3.0f + bend * 0.5f}};
     }
 };
 
-struct PlaneOffset {
-    float f, slope;  // f and df/dg
+// An exact frame of the yarn, in the model's terms (no member initializers: every field is set).
+struct Knot {
+    double g;         // curve parameter (unwrapped on loops)
+    float s;          // arc length from the first knot evaluated, continuous across a loop's seam
+    float inv_speed;  // dg/ds
+    float radius;     // yarn radius R, m
+    float kappa;      // |curvature|, 1/m
+    Vec3 c, t, kv;    // centre, tangent, curvature vector
+    Vec3 n, b;        // normal and binormal
+    Vec3 wr, wi;      // W = (N - iB) e^{iks}
+    Vec3 w1r, w1i;    // (N' - iB') e^{iks}: the frame's own turn toward the tangent
+    float co, si;     // cos and sin of k s
 };
-PlaneOffset plane_offset(const PlyCut& cut, const CuttingPlane& plane) {
-    const PlyCentre& p = cut.centre;
-    if (!plane.ply_plane)
-        return {dot(p.position - plane.x0, plane.normal), dot(p.derivative, plane.normal) * cut.yarn.speed};
-    auto across = [&](Vec3 v) { return v - plane.ray * dot(v, plane.ray); };
-    const Vec3 w = across(p.position - plane.x0), d1 = across(p.derivative), d2 = across(p.second_derivative);
-    return {dot(w, d1), (dot(d1, d1) + dot(w, d2)) * cut.yarn.speed};
+
+// The model's ply centre at one arc length: position, d/ds and d2/ds2 in model coordinates.
+struct ModelPoint {
+    Vec3 p, d, dd;
+    float ply_radius;  // m
+};
+
+// A quintic in v with its derivative's and second derivative's coefficients.
+struct Axis {
+    float k[6], d[5], dd[4];
+
+    void set(const float* c) {
+        for (int j = 0; j < 6; ++j) k[j] = c[j];
+        for (int j = 0; j < 5; ++j) d[j] = float(j + 1) * c[j + 1];
+        for (int j = 0; j < 4; ++j) dd[j] = float((j + 1) * (j + 2)) * c[j + 2];
+    }
+    void eval(float v, float& p, float& dp, float& ddp) const {
+        p = ((((k[5] * v + k[4]) * v + k[3]) * v + k[2]) * v + k[1]) * v + k[0];
+        dp = (((d[4] * v + d[3]) * v + d[2]) * v + d[1]) * v + d[0];
+        ddp = ((dd[3] * v + dd[2]) * v + dd[1]) * v + dd[0];
+    }
+};
+
+// One ply's centre over one piece: a quintic in v per axis.
+struct PlyPoly {
+    Axis x, y, z;
+    float s0, inv_h;  // the piece's start (arc length from the window's start) and 1 / length
+    float r0, dr;     // ply radius at the start and its change over the piece, m
+    int piece;
+
+    ModelPoint at(float s) const {
+        const float v = (s - s0) * inv_h;
+        ModelPoint m;
+        x.eval(v, m.p.x, m.d.x, m.dd.x);
+        y.eval(v, m.p.y, m.d.y, m.dd.y);
+        z.eval(v, m.p.z, m.d.z, m.dd.z);
+        m.d *= inv_h;
+        m.dd *= inv_h * inv_h;
+        m.ply_radius = r0 + dr * v;
+        return m;
+    }
+};
+
+// No member initializers: a query's array of pieces is left uninitialized until built.
+struct Piece {
+    float s0, h, inv_h;  // arc length at the start (from the first knot evaluated), length
+    double g0, g1;       // curve parameters at the ends
+    float dg0, dg1;      // dg/dv at the ends
+    float r0, r1;        // yarn radius at the ends
+    float kappa;         // largest curvature at the ends, 1/m
+    Quintic centre, ar, ai;  // C and A = a W
+
+    // Curve parameter at v (cubic Hermite through the ends' g and dg/dv).
+    double g(float v) const {
+        const double v2 = double(v) * v, v3 = v2 * v;
+        return (2 * v3 - 3 * v2 + 1) * g0 + (v3 - 2 * v2 + v) * dg0 + (-2 * v3 + 3 * v2) * g1 + (v3 - v2) * dg1;
+    }
+};
+
+struct LocalYarn {
+    Vec3 origin, ex, ey, ez;  // model coordinates: origin and axes in world space
+    float distance = 0, ply_radius = 0;  // ply_distance and ply_radius of the description (in R)
+    float rate = 0;                      // k, rad/m
+    int pieces = 0;
+    Slots<Piece, kMaxPieces> piece;  // left uninitialized until built
+    int built_lo = kMaxPieces, built_hi = -1;  // the pieces built so far (contiguous)
+    int plies = 0;
+    const float* cos_offset = nullptr;  // cos and sin of 2 pi i / N
+    const float* sin_offset = nullptr;
+
+    Vec3 local(Vec3 v) const { return {dot(v, ex), dot(v, ey), dot(v, ez)}; }
+
+    PlyPoly ply(int i, int j) const {
+        const Piece& q = piece[j];
+        const float cp = cos_offset[i], sp = sin_offset[i];
+        float c[3][6];
+        for (int k = 0; k < 6; ++k) {
+            const Vec3 v = q.centre.k[k] + q.ar.k[k] * cp - q.ai.k[k] * sp;
+            c[0][k] = v.x;
+            c[1][k] = v.y;
+            c[2][k] = v.z;
+        }
+        PlyPoly out;
+        out.x.set(c[0]);
+        out.y.set(c[1]);
+        out.z.set(c[2]);
+        out.s0 = q.s0;
+        out.inv_h = q.inv_h;
+        out.r0 = ply_radius * q.r0;
+        out.dr = ply_radius * (q.r1 - q.r0);
+        out.piece = j;
+        return out;
+    }
+    // Curve parameter at arc length s, from piece j's map (extrapolated a little past its ends).
+    double g(int j, float s) const { return piece[j].g((s - piece[j].s0) * piece[j].inv_h); }
+};
+
+Knot make_knot(const CurvePoint& c, double g, float s, const LocalYarn& m) {
+    Knot k;
+    k.g = g;
+    k.s = s;
+    k.inv_speed = 1.0f / std::max(c.speed, 1e-30f);
+    k.radius = c.radius;
+    k.kappa = length(c.curvature);
+    k.c = m.local(c.position - m.origin);
+    k.t = m.local(c.tangent);
+    k.kv = m.local(c.curvature);
+    k.n = m.local(c.normal);
+    k.b = m.local(c.binormal);
+    k.co = std::cos(m.rate * c.arc_length);
+    k.si = std::sin(m.rate * c.arc_length);
+    k.wr = k.n * k.co + k.b * k.si;
+    k.wi = k.n * k.si - k.b * k.co;
+    // dN/ds = -(kappa.N) T, dB/ds = -(kappa.B) T.
+    const float kn = dot(c.curvature, c.normal), kb = dot(c.curvature, c.binormal);
+    k.w1r = k.t * -(kn * k.co + kb * k.si);
+    k.w1i = k.t * -(kn * k.si - kb * k.co);
+    return k;
 }
 
-// The crossings of one ply's centre-line through its plane, each by Newton steps kept
-// inside its bracket (bisection when a step leaves it).
-struct Pierces {
-    Slots<PlyCut, 8> cuts;
-    int count = 0;
-    int evaluations = 0;
-    bool converged = true;
+// A = a W and its first two derivatives at a knot, for a ply distance a changing at da per m;
+// the curvature's own change (dkappa, per m, from the piece's ends) enters the second.
+void shared_offset(const Knot& k, float a, float da, Vec3 dkappa, float rate, Vec3 out[6]) {
+    const Vec3 w1r = k.w1r - k.wi * rate, w1i = k.w1i + k.wr * rate;
+    // N'' = -(kappa.N) kappa - (kappa'.N) T (the same for B), turned by e^{iks}.
+    const float kn = dot(k.kv, k.n), kb = dot(k.kv, k.b), dn = dot(dkappa, k.n), db = dot(dkappa, k.b);
+    const Vec3 n2 = k.kv * -kn - k.t * dn, b2 = k.kv * -kb - k.t * db;
+    const Vec3 w2r = n2 * k.co + b2 * k.si - k.w1i * (2 * rate) - k.wr * (rate * rate);
+    const Vec3 w2i = n2 * k.si - b2 * k.co + k.w1r * (2 * rate) - k.wi * (rate * rate);
+    out[0] = k.wr * a;
+    out[1] = k.wi * a;
+    out[2] = k.wr * da + w1r * a;
+    out[3] = k.wi * da + w1i * a;
+    out[4] = w1r * (2 * da) + w2r * a;
+    out[5] = w1i * (2 * da) + w2i * a;
+}
+
+void make_piece(const Knot& a, const Knot& b, const LocalYarn& m, Piece& q) {
+    q.s0 = a.s;
+    q.h = std::max(b.s - a.s, 1e-12f);
+    q.inv_h = 1.0f / q.h;
+    q.g0 = a.g;
+    q.g1 = b.g;
+    q.dg0 = a.inv_speed * q.h;
+    q.dg1 = b.inv_speed * q.h;
+    q.r0 = a.radius;
+    q.r1 = b.radius;
+    q.kappa = std::max(a.kappa, b.kappa);
+    q.centre = Quintic::hermite(a.c, a.t, a.kv, b.c, b.t, b.kv, q.h);
+    const Vec3 dkappa = (b.kv - a.kv) * q.inv_h;
+    const float da = m.distance * (b.radius - a.radius) * q.inv_h;
+    Vec3 ea[6], eb[6];
+    shared_offset(a, m.distance * a.radius, da, dkappa, m.rate, ea);
+    shared_offset(b, m.distance * b.radius, da, dkappa, m.rate, eb);
+    q.ar = Quintic::hermite(ea[0], ea[2], ea[4], eb[0], eb[2], eb[4], q.h);
+    q.ai = Quintic::hermite(ea[1], ea[3], ea[5], eb[1], eb[3], eb[5], q.h);
+}
+
+// ---- Crossings on the model ---------------------------------------------------------------
+// Per ply, f(s) is the function whose roots are its crossings: in the ply plane
+// f = p.p' across the ray (rising roots: closest approaches, D = |p|^2 across the ray is the
+// squared miss distance); in the yarn plane f = p.x (any sign change: the centre-line pierces
+// the plane). Every ply is checked at grid nodes kSubsteps per piece; an interval holds a
+// crossing when f changes sign, or two when the cubic through its ends' values and slopes
+// turns back across zero (a ray grazing a ply between two close approaches).
+
+struct Sampled {
+    float s, D, f, slope;  // arc length, D, f and df/ds
 };
 
-bool bracketed_root(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
-                    const CuttingPlane& plane, double lo, double hi, float f_lo, PlyCut cut, float tolerance,
-                    int max_steps, Pierces& out) {
-    const float rising = f_lo <= 0 ? 1.0f : -1.0f;  // f_lo's sign tells which side `lo` is on
+// D, f and df/ds of one ply at arc length s (only the axes across the ray).
+Sampled sample(const PlyPoly& q, float s, bool ply_plane) {
+    const float v = (s - q.s0) * q.inv_h, ih = q.inv_h;
+    float px, dx, ddx, py, dy, ddy;
+    q.x.eval(v, px, dx, ddx);
+    q.y.eval(v, py, dy, ddy);
+    if (!ply_plane) return {s, 0, px, dx * ih};
+    return {s, px * px + py * py, (px * dx + py * dy) * ih, (dx * dx + dy * dy + px * ddx + py * ddy) * ih * ih};
+}
+
+// A lower bound on D over [a, b] above reach2 proves the ply out of the ray's reach there: D
+// can fall from each end no faster than the bound on its second derivative allows (D' = 0 at an
+// interior minimum); speed and accel bound |p'| and |p''|.
+inline bool out_of_reach(float s_a, float D_a, float s_b, float D_b, float reach2, float speed, float accel) {
+    const float h = s_b - s_a;
+    // |d2D/ds2| = 2 |p'^2 + p.p''| with |p| at most the larger end's plus half the travel.
+    const float p = std::sqrt(std::max(D_a, D_b)) + 0.5f * speed * h;
+    const float curvature2 = 2 * (speed * speed + p * accel);
+    const float t = std::min(std::max((D_a - D_b) / (curvature2 * h) + 0.5f * h, 0.0f), h);
+    // Branch-free (the grid's loop over plies vectorizes): both ends and the bound beyond reach.
+    return (D_a > reach2) & (D_b > reach2) & (D_a - 0.5f * curvature2 * t * t > reach2);
+}
+
+// Every ply of one piece, coefficient-major (coefficient j of ply i at [j][i]: the quintic, its
+// derivative, its second derivative), so the grid's loops over plies vectorize. Ply counts are
+// padded to a multiple of 4 with copies of ply 0 (their results are never read).
+struct PieceGrid {
+    float x[15][kMaxPlies], y[15][kMaxPlies];
+    float D[2][kMaxPlies], f[2][kMaxPlies], slope[2][kMaxPlies];  // at the previous and latest node
+
+    static int padded(int plies) { return (plies + 3) & ~3; }
+    void set(const PlyPoly* polys, int plies) {
+        for (int i = 0; i < padded(plies); ++i) {
+            const PlyPoly& p = polys[i < plies ? i : 0];
+            for (int j = 0; j < 6; ++j) x[j][i] = p.x.k[j], y[j][i] = p.y.k[j];
+            for (int j = 0; j < 5; ++j) x[6 + j][i] = p.x.d[j], y[6 + j][i] = p.y.d[j];
+            for (int j = 0; j < 4; ++j) x[11 + j][i] = p.x.dd[j], y[11 + j][i] = p.y.dd[j];
+        }
+    }
+    // Every ply at v into slot `to` (0 or 1).
+    void node(int plies, float v, float ih, bool ply_plane, int to) {
+        const int n = padded(plies);
+        const float ih2 = ih * ih;
+        float px[kMaxPlies], dx[kMaxPlies], ddx[kMaxPlies], py[kMaxPlies], dy[kMaxPlies], ddy[kMaxPlies];
+        for (int i = 0; i < n; ++i) {
+            px[i] = ((((x[5][i] * v + x[4][i]) * v + x[3][i]) * v + x[2][i]) * v + x[1][i]) * v + x[0][i];
+            dx[i] = (((x[10][i] * v + x[9][i]) * v + x[8][i]) * v + x[7][i]) * v + x[6][i];
+            ddx[i] = ((x[14][i] * v + x[13][i]) * v + x[12][i]) * v + x[11][i];
+            py[i] = ((((y[5][i] * v + y[4][i]) * v + y[3][i]) * v + y[2][i]) * v + y[1][i]) * v + y[0][i];
+            dy[i] = (((y[10][i] * v + y[9][i]) * v + y[8][i]) * v + y[7][i]) * v + y[6][i];
+            ddy[i] = ((y[14][i] * v + y[13][i]) * v + y[12][i]) * v + y[11][i];
+        }
+        // What sample() gives, one branch-free loop per plane.
+        float *out_d = D[to], *out_f = f[to], *out_slope = slope[to];
+        if (ply_plane) {
+            for (int i = 0; i < n; ++i) {
+                out_d[i] = px[i] * px[i] + py[i] * py[i];
+                out_f[i] = (px[i] * dx[i] + py[i] * dy[i]) * ih;
+                out_slope[i] = (dx[i] * dx[i] + dy[i] * dy[i] + px[i] * ddx[i] + py[i] * ddy[i]) * ih2;
+            }
+        } else {
+            for (int i = 0; i < n; ++i) {
+                out_d[i] = 0;
+                out_f[i] = px[i];
+                out_slope[i] = dx[i] * ih;
+            }
+        }
+    }
+};
+
+struct Work {
+    int ply;
+    Sampled lo, hi;  // a bracket of one crossing
+};
+
+struct Search {
+    const PlyPoly* polys;  // the current piece's plies
+    bool ply_plane;
+    float reach2;        // (ply radius + model margin)^2: a closer approach may be a crossing
+    float speed, accel;  // bounds on |p'| and |p''| over the current piece (ply plane)
+    Work work[kMaxWork];
+    int count = 0;
+
+    Search(bool plane) : polys(nullptr), ply_plane(plane), reach2(0), speed(0), accel(0) {}
+
+    void interval(int ply, const Sampled& a, const Sampled& b, int depth) {
+        if (ply_plane && out_of_reach(a.s, a.D, b.s, b.D, reach2, speed, accel)) return;
+        const bool crossing = ply_plane ? (a.f < 0 && b.f >= 0) : ((a.f <= 0) != (b.f <= 0));
+        if (crossing) {
+            if (count < kMaxWork) work[count++] = {ply, a, b};
+            return;
+        }
+        if ((a.f < 0) != (b.f < 0) || depth >= 2) return;
+        // Ends of one sign: where the cubic through the ends' values and slopes turns back
+        // toward zero (within a quarter of the ends' size), split there and look again.
+        const float h = b.s - a.s, p = a.slope * h, q = b.slope * h;
+        const float k3 = 2 * (a.f - b.f) + p + q, k2 = 3 * (b.f - a.f) - 2 * p - q;
+        const float c2 = 3 * k3, c1 = 2 * k2, c0 = p;
+        float roots[2];
+        int n = 0;
+        if (std::fabs(c2) > 1e-12f * (std::fabs(c1) + std::fabs(c0))) {
+            const float disc = c1 * c1 - 4 * c2 * c0;
+            if (disc >= 0) {
+                roots[n++] = (-c1 - std::sqrt(disc)) / (2 * c2);
+                roots[n++] = (-c1 + std::sqrt(disc)) / (2 * c2);
+            }
+        } else if (c1 != 0) {
+            roots[n++] = -c0 / c1;
+        }
+        const float sign = a.f < 0 ? -1.0f : 1.0f, margin = 0.25f * std::min(std::fabs(a.f), std::fabs(b.f));
+        float u = -1;
+        for (int i = 0; i < n; ++i) {
+            const float r = roots[i];
+            if (r > 0 && r < 1 && (((k3 * r + k2) * r + p) * r + a.f) * sign < margin) u = r;
+        }
+        if (u < 0) return;
+        const Sampled mid = sample(polys[ply], a.s + h * clamp(u, 0.1f, 0.9f), ply_plane);
+        interval(ply, a, mid, depth + 1);
+        interval(ply, mid, b, depth + 1);
+    }
+};
+
+// Bounds on a ply centre's speed and acceleration over a piece, for out_of_reach: from
+// the curvature (a quarter over the ends' largest, with 5-10% to spare) and the turn rate.
+void piece_bounds(const LocalYarn& m, const Piece& q, Search& search) {
+    const float kappa = 1.25f * q.kappa, a = m.distance * std::max(q.r0, q.r1), k = std::fabs(m.rate);
+    search.speed = 1.05f * std::sqrt(sqr(1 + a * kappa) + sqr(a * k));
+    search.accel = 1.1f * (kappa * (1 + a * kappa) + a * (k * k + 2 * k * kappa));
+}
+
+// Safeguarded Newton steps on the model inside a bracket, from the secant point. False when
+// max_steps are not enough.
+bool solve(const PlyPoly& q, const Work& w, bool ply_plane, float tolerance, int max_steps, float& s) {
+    float lo = w.lo.s, hi = w.hi.s;
+    s = lo + (hi - lo) * clamp(w.lo.f / (w.lo.f - w.hi.f), 0.0f, 1.0f);
+    if (!std::isfinite(s)) s = 0.5f * (lo + hi);
+    const float rising = w.lo.f <= 0 ? 1.0f : -1.0f;
     for (int step = 0; step <= max_steps; ++step) {
-        const PlaneOffset o = plane_offset(cut, plane);
-        double next = cut.g - o.f / o.slope;
+        const Sampled o = sample(q, s, ply_plane);
+        float next = s - o.f / o.slope;
         const bool newton = o.slope * rising > 0;
-        if (newton && std::fabs(next - cut.g) * cut.yarn.speed < tolerance) {
-            if (out.count < 8) out.cuts[out.count++] = cut;  // within tolerance of the root
-            return true;
-        }
+        if (newton && std::fabs(next - s) < tolerance) return true;
         if (step == max_steps) break;
-        if (o.f * rising < 0) lo = cut.g;
-        else hi = cut.g;
-        if (std::fabs(hi - lo) * cut.yarn.speed < tolerance) {
-            if (out.count < 8) out.cuts[out.count++] = cut;
-            return true;
-        }
-        if (!newton || !(next >= std::min(lo, hi) && next <= std::max(lo, hi))) next = 0.5 * (lo + hi);
-        cut = cut_at(frames, d, tw, ply, next);
-        ++out.evaluations;
+        if (o.f * rising < 0) lo = s;
+        else hi = s;
+        if (hi - lo < tolerance) return true;
+        if (!newton || !(next >= lo && next <= hi)) next = 0.5f * (lo + hi);
+        s = next;
     }
     return false;
 }
 
-struct Sample {
-    PlyCut cut;
-    PlaneOffset offset;
+// Newton step (m of yarn) toward the point of a ply centre-line closest to x: the root of
+// (P - x).P', with derivative |P'|^2 + (P - x).P''.
+float closest_point_step(Vec3 position, Vec3 d1, Vec3 d2, Vec3 x) {
+    const Vec3 w = position - x;
+    const float slope = dot(d1, d1) + dot(w, d2);
+    return -dot(w, d1) / std::max(slope, 0.25f * dot(d1, d1));
+}
+
+// A crossing found on the model, with where the ray enters the ply there (model estimates).
+struct ModelCandidate {
+    int ply, piece, piece_enter;  // pieces of the crossing and of the entry
+    float s_cross, s_enter;  // model arc lengths of the crossing and of the helix point nearest the entry
+    float s_lo, s_hi;        // the crossing's bracket
+    float approach, enter;   // ray distances of the closest approach and of the entry, m
+    float slack;             // how much earlier the exact entry could be, m
+    float miss;              // model miss distance less the ply radius, m
+    bool ambiguous;          // the miss distance is within the model's margin of the ply radius
 };
 
-Sample sample_at(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
-                 const CuttingPlane& plane, double g, Pierces& out) {
-    Sample s{cut_at(frames, d, tw, ply, g), {}};
-    s.offset = plane_offset(s.cut, plane);
-    ++out.evaluations;
-    return s;
+// The ply's model at arc length s, moving q to the built piece that holds s (the end pieces of
+// what is built extrapolate).
+ModelPoint model_at(const LocalYarn& m, int ply, PlyPoly& q, float s) {
+    for (int hop = 0; hop < kMaxPieces; ++hop) {
+        const float v = (s - q.s0) * q.inv_h;
+        if (v < 0 && q.piece > m.built_lo) q = m.ply(ply, q.piece - 1);
+        else if (v > 1 && q.piece < m.built_hi) q = m.ply(ply, q.piece + 1);
+        else break;
+    }
+    return q.at(s);
 }
 
-void prepare_sections(const CachedCurve& frames, CuttingPlane& plane) {
-    if (plane.sections_ready) return;
-    for (int i = 0; i <= plane.samples; ++i) {
-        locate(frames, plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples, plane.section_segment[i],
-               plane.section_t[i]);
-        plane.sections[i] = frames.evaluate(plane.section_segment[i], plane.section_t[i]);
-        plane.section_cos[i] = std::cos(plane.twist * plane.sections[i].arc_length);
-        plane.section_sin[i] = std::sin(plane.twist * plane.sections[i].arc_length);
+// The ray's entry into the ply near a crossing, on the model: the cylinder along the tangent
+// there, moved to the cylinder at the helix point closest to the entry (what enter_ply does on
+// the exact curve). Returns the entry distance; `s` ends at the helix point nearest it, in
+// piece q.piece. When the entry moves too far past the window's ends for the model,
+// `trusted` is false and `s` stays at the crossing (the exact refinement's start).
+float model_entry(const LocalYarn& m, int ply, PlyPoly& q, float approach, float tolerance, int refinements,
+                  float max_shift, float& s, float& cos_incidence, bool& trusted) {
+    const float crossing = s;
+    const PlyPoly start = q;
+    ModelPoint p = q.at(s);
+    const Vec3 o(0.0f), z(0, 0, 1);
+    float enter, leave;
+    bool hits = intersect_cylinder(o, z, p.p, normalize(p.d), p.ply_radius, enter, leave);
+    float lambda = hits ? clamp(enter, 0.0f, approach) : approach;
+    for (int r = 0; r < refinements; ++r) {
+        const float ds = clamp(closest_point_step(p.p, p.d, p.dd, z * lambda), -max_shift, max_shift);
+        if (hits && std::fabs(ds) < tolerance) break;
+        s += ds;
+        p = model_at(m, ply, q, s);
+        hits = intersect_cylinder(o, z, p.p, normalize(p.d), p.ply_radius, enter, leave);
+        if (!hits) break;
+        lambda = clamp(enter, 0.0f, approach);
+        if (std::fabs(ds) < tolerance) break;
     }
-    plane.sections_ready = true;
-}
-
-// A sample at the scan's i-th point, from the section all plies share.
-Sample shared_sample(const YarnDescription& d, const YarnTwist& tw, int ply, const CuttingPlane& plane, int i) {
-    Sample s;
-    s.cut.g = plane.g_lo + (plane.g_hi - plane.g_lo) * i / plane.samples;
-    s.cut.segment = plane.section_segment[i];
-    s.cut.t = plane.section_t[i];
-    s.cut.yarn = plane.sections[i];
-    s.cut.centre = plane.centre(s.cut.yarn, d, tw, plane.section_cos[i], plane.section_sin[i], ply);
-    s.offset = plane_offset(s.cut, plane);
-    return s;
-}
-
-// A root in (0, 1) of the cubic Hermite with values fa, fb (of opposite signs) and slopes p, q
-// at 0 and 1: safeguarded Newton steps from the secant point, bisection when a step leaves the
-// bracket. Pure arithmetic; only a start for the Newton steps on the real curve.
-double hermite_root(double fa, double fb, double p, double q) {
-    const double k3 = 2 * (fa - fb) + p + q, k2 = 3 * (fb - fa) - 2 * p - q;
-    double lo = 0, hi = 1, u = fa / (fa - fb);
-    const double rising = fa < 0 ? 1 : -1;
-    for (int step = 0; step < 8; ++step) {
-        const double f = ((k3 * u + k2) * u + p) * u + fa, slope = (3 * k3 * u + 2 * k2) * u + p;
-        if (f * rising < 0) lo = u;
-        else hi = u;
-        double next = u - f / slope;
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::fabs(next - u) < 1e-7) return next;
-        u = next;
+    const float v = (s - q.s0) * q.inv_h;
+    trusted = v > -0.25f && v < 1.25f;
+    if (!trusted) {
+        s = crossing;
+        q = start;
     }
-    return u;
-}
-
-// Looks for crossings between two samples. Equal signs at both ends can still hide two
-// crossings (the ray grazes a ply between two close approaches): where the cubic through the
-// ends' values and slopes turns back toward zero, the interval is split and searched again.
-void scan_interval(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
-                   const CuttingPlane& plane, const Sample& a, const Sample& b, int depth,
-                   const PlyTraceOptions& options, float tolerance, Pierces& out) {
-    const float fa = a.offset.f, fb = b.offset.f;
-    const bool crossing = plane.ply_plane ? (fa < 0 && fb >= 0) : ((fa <= 0) != (fb <= 0));
-    if (crossing) {
-        // First step from the root of the cubic through both ends' values and slopes (a much
-        // better start than the secant over a piece of up to 1.5 rad of ply turn: it saves
-        // about one curve evaluation per crossing).
-        const double h = b.cut.g - a.cut.g;
-        double g = a.cut.g + h * hermite_root(fa, fb, a.offset.slope * h, b.offset.slope * h);
-        if (!std::isfinite(g)) g = 0.5 * (a.cut.g + b.cut.g);
-        const PlyCut start = cut_at(frames, d, tw, ply, g);
-        ++out.evaluations;
-        if (!bracketed_root(frames, d, tw, ply, plane, a.cut.g, b.cut.g, fa, start, tolerance, options.max_iterations,
-                            out))
-            out.converged = false;
-        return;
-    }
-    if ((fa < 0) != (fb < 0) || depth >= 3 || out.count >= 8) return;
-    // Ends of one sign: where the cubic Hermite through both ends' values and slopes turns
-    // back toward zero (within a quarter of the ends' size), there may be a pair of crossings.
-    const double h = b.cut.g - a.cut.g;
-    const double p = a.offset.slope * h, q = b.offset.slope * h;  // end slopes per unit of the interval
-    const double k3 = 2 * (fa - fb) + p + q, k2 = 3 * (fb - fa) - 2 * p - q;  // f(u) = k3 u^3 + k2 u^2 + p u + fa
-    const double c2 = 3 * k3, c1 = 2 * k2, c0 = p;
-    double roots[2];
-    int n_roots = 0;
-    if (std::fabs(c2) > 1e-12) {
-        const double disc = c1 * c1 - 4 * c2 * c0;
-        if (disc >= 0) {
-            roots[n_roots++] = (-c1 - std::sqrt(disc)) / (2 * c2);
-            roots[n_roots++] = (-c1 + std::sqrt(disc)) / (2 * c2);
-        }
-    } else if (std::fabs(c1) > 1e-12) {
-        roots[n_roots++] = -c0 / c1;
-    }
-    const double sign = fa < 0 ? -1.0 : 1.0, margin = 0.25 * std::min(std::fabs(fa), std::fabs(fb));
-    double u = -1;
-    for (int i = 0; i < n_roots; ++i) {
-        const double r = roots[i];
-        if (!(r > 0 && r < 1)) continue;
-        const double value = ((k3 * r + k2) * r + p) * r + fa;
-        if (value * sign < margin) u = r;  // turns back to (or past) zero
-    }
-    if (u < 0) return;
-    u = clamp(static_cast<float>(u), 0.1f, 0.9f);
-    const Sample m = sample_at(frames, d, tw, ply, plane, a.cut.g + h * u, out);
-    scan_interval(frames, d, tw, ply, plane, a, m, depth + 1, options, tolerance, out);
-    scan_interval(frames, d, tw, ply, plane, m, b, depth + 1, options, tolerance, out);
-}
-
-// Culling: can a ply's centre-line come within reach of the ray between two cuts whose
-// positions and derivatives are known? The stretch is modelled by the cubic Hermite in arc
-// length through both ends (exact at the ends; for a helix over 1.5 rad of turn it is off by
-// about 1% of a yarn radius), and that cubic is bounded away from the ray: each quarter of it
-// (a Bezier piece) lies in the hull of its control points, and all of them on the far side of a
-// line at distance D across the ray means no point of the piece comes nearer than D. The
-// model's own error is estimated from how far its second derivative at the ends is from the
-// helix's (for the cubic Hermite the error is h^2/32 times that mismatch when the fourth
-// derivative is steady) and allowed for three times over, plus 2% of a yarn radius.
-bool beyond_reach(const PlyCut& a, const PlyCut& b, const CuttingPlane& plane, float yarn_radius) {
-    const float h = b.yarn.arc_length - a.yarn.arc_length;
-    if (!(h > 1e-6f * yarn_radius) || h > 8 * yarn_radius) return false;  // seam of a loop, or degenerate
-    const Vec3 c0 = a.centre.position - plane.x0, c3 = b.centre.position - plane.x0;
-    // The ends lie on the curve: one within the smallest reach settles it (the usual case for
-    // a crossed ply) before the model's error is estimated.
-    {
-        const float near = std::max(a.centre.radius, b.centre.radius) + 0.02f * yarn_radius;
-        const float e0 = sqr(dot(c0, plane.normal)) + sqr(dot(c0, plane.side));
-        const float e3 = sqr(dot(c3, plane.normal)) + sqr(dot(c3, plane.side));
-        if (e0 <= near * near || e3 <= near * near) return false;
-    }
-    const Vec3 c1 = c0 + a.centre.derivative * (h / 3), c2 = c3 - b.centre.derivative * (h / 3);
-    const float inv_h2 = 6.0f / (h * h);
-    const float mismatch = std::max(length(a.centre.second_derivative - (c0 - c1 * 2 + c2) * inv_h2),
-                                    length(b.centre.second_derivative - (c1 - c2 * 2 + c3) * inv_h2));
-    const float reach = std::max(a.centre.radius, b.centre.radius) + 3 * (h * h / 32) * mismatch +
-                        0.02f * yarn_radius;
-    // Across the ray: 2D coordinates in the plane perpendicular to it.
-    const Vec3 e1 = plane.normal, e2 = plane.side;
-    const Vec3 c[4] = {c0, c1, c2, c3};
-    float x[4], y[4];
-    for (int i = 0; i < 4; ++i) x[i] = dot(c[i], e1), y[i] = dot(c[i], e2);
-    // The ends lie on the curve: one within reach settles it (the usual case for a crossed ply).
-    const float reach2 = reach * reach;
-    if (x[0] * x[0] + y[0] * y[0] <= reach2 || x[3] * x[3] + y[3] * y[3] <= reach2) return false;
-    // The whole stretch's hull first, then its quarters.
-    {
-        const float mx = x[0] + x[1] + x[2] + x[3], my = y[0] + y[1] + y[2] + y[3];
-        const float m = std::sqrt(mx * mx + my * my);
-        float lower = 1e30f;
-        for (int i = 0; i < 4; ++i) lower = std::min(lower, x[i] * mx + y[i] * my);
-        if (lower > reach * m) return true;
-    }
-    // Bezier point and derivative at u (Bernstein form).
-    auto point = [&](float u, float& px, float& py, float& dx, float& dy) {
-        const float v = 1 - u;
-        const float b0 = v * v * v, b1 = 3 * u * v * v, b2 = 3 * u * u * v, b3 = u * u * u;
-        px = b0 * x[0] + b1 * x[1] + b2 * x[2] + b3 * x[3];
-        py = b0 * y[0] + b1 * y[1] + b2 * y[2] + b3 * y[3];
-        const float d0 = 3 * v * v, d1 = 6 * u * v, d2 = 3 * u * u;
-        dx = d0 * (x[1] - x[0]) + d1 * (x[2] - x[1]) + d2 * (x[3] - x[2]);
-        dy = d0 * (y[1] - y[0]) + d1 * (y[2] - y[1]) + d2 * (y[3] - y[2]);
-    };
-    float px0, py0, dx0, dy0;
-    point(0, px0, py0, dx0, dy0);
-    for (int k = 1; k <= 4; ++k) {
-        float px1, py1, dx1, dy1;
-        point(0.25f * k, px1, py1, dx1, dy1);
-        // The quarter's control points (its length in u is 1/4, so derivatives scale by 1/12).
-        const float qx[4] = {px0, px0 + dx0 / 12, px1 - dx1 / 12, px1};
-        const float qy[4] = {py0, py0 + dy0 / 12, py1 - dy1 / 12, py1};
-        const float mx = qx[0] + qx[1] + qx[2] + qx[3], my = qy[0] + qy[1] + qy[2] + qy[3];
-        const float m = std::sqrt(mx * mx + my * my);
-        float lower = 1e30f;
-        for (int i = 0; i < 4; ++i) lower = std::min(lower, qx[i] * mx + qy[i] * my);
-        if (!(lower > reach * m)) return false;
-        px0 = px1, py0 = py1, dx0 = dx1, dy0 = dy1;
-    }
-    return true;
-}
-
-// Below this many plies a side-view ray crosses most of them anyway: culling would cost more
-// (two shared evaluations and the bounds) than it saves.
-constexpr int kSideCullPlies = 5;
-
-Pierces pierce(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, int ply,
-               CuttingPlane& plane, const PlyTraceOptions& options, float radius) {
-    Pierces out;
-    const float tolerance = options.tolerance * radius;
-    if (plane.ply_plane && plane.samples == 1 && options.cull && d.plies() >= kSideCullPlies) {
-        // Near side views: cull a ply that stays out of reach of the ray on both sides of the
-        // tube hit's cross-section (the window's ends are evaluated once for all plies).
-        if (!plane.sections_ready) {
-            out.evaluations += plane.samples + 1;
-            prepare_sections(frames, plane);
-        }
-        PlyCut start;
-        start.g = plane.g_start;
-        start.yarn = plane.start;
-        start.centre = plane.centre(start.yarn, d, tw, plane.start_cos, plane.start_sin, ply);
-        const Sample lo = shared_sample(d, tw, ply, plane, 0), hi = shared_sample(d, tw, ply, plane, 1);
-        if (beyond_reach(lo.cut, start, plane, radius) && beyond_reach(start, hi.cut, plane, radius)) return out;
-    }
-    if (plane.samples == 1) {
-        // Near side views: Newton from the tube hit's cross-section (the paper's start), kept
-        // in the window. A few steps settle on the crossing, or hand over to the scan below.
-        PlyCut cut;
-        cut.g = plane.g_start;
-        cut.segment = plane.start_segment;
-        cut.t = plane.start_t;
-        cut.yarn = plane.start;
-        cut.centre = plane.centre(cut.yarn, d, tw, plane.start_cos, plane.start_sin, ply);
-        for (int step = 0; step < 4 && step < options.max_iterations; ++step) {
-            const PlaneOffset o = plane_offset(cut, plane);
-            if (!(o.slope > 0)) break;
-            const double next = cut.g - o.f / o.slope;
-            if (next < plane.g_lo || next > plane.g_hi) break;
-            if (std::fabs(next - cut.g) * cut.yarn.speed < tolerance) {
-                out.cuts[out.count++] = cut;
-                return out;
-            }
-            cut = cut_at(frames, d, tw, ply, next);
-            ++out.evaluations;
-        }
-    }
-    if (!plane.sections_ready) {
-        out.evaluations += plane.samples + 1;
-        prepare_sections(frames, plane);
-    }
-    Sample previous = shared_sample(d, tw, ply, plane, 0);
-    for (int i = 1; i <= plane.samples && out.count < 8; ++i) {
-        const Sample next = shared_sample(d, tw, ply, plane, i);
-        if (!(plane.ply_plane && options.cull && beyond_reach(previous.cut, next.cut, plane, radius)))
-            scan_interval(frames, d, tw, ply, plane, previous, next, 0, options, tolerance, out);
-        previous = next;
-    }
-    return out;
+    const Vec3 axis = normalize(p.d);
+    Vec3 radial = z * lambda - p.p;
+    radial -= axis * dot(radial, axis);
+    const float len = length(radial);
+    cos_incidence = len > 1e-12f ? std::fabs(radial.z) / len : 1.0f;
+    return lambda;
 }
 
 // The circular method for one ply: the ray projected into the perpendicular cross-section at
@@ -536,12 +641,8 @@ PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const
     return h;
 }
 
-// Newton step (in metres of yarn) toward the point of the ply centre-line closest to x:
-// the root of (P - x).P', with derivative |P'|^2 + (P - x).P''.
 float closest_point_step(const PlyCut& cut, Vec3 x) {
-    const Vec3 w = cut.centre.position - x, d1 = cut.centre.derivative;
-    const float slope = dot(d1, d1) + dot(w, cut.centre.second_derivative);
-    return -dot(w, d1) / std::max(slope, 0.25f * dot(d1, d1));
+    return closest_point_step(cut.centre.position, cut.centre.derivative, cut.centre.second_derivative, x);
 }
 
 // Distance from the ray point at `lambda` to the ply surface (negative inside), with `cut`
@@ -609,7 +710,12 @@ bool enter_ply(const CachedCurve& frames, const YarnDescription& d, const YarnTw
         return true;
     }
     float h_hi = helix_gap(frames, d, tw, hit, cand.ply, hi, hi_cut, evaluations);
-    if (h_hi > 0) return false;
+    if (h_hi > kGraze * tolerance) return false;
+    if (h_hi > 0) {  // a graze within the explicit reference's tolerance: touching at the approach
+        cand.cut = hi_cut;
+        cand.enter = hi;
+        return true;
+    }
     for (int step = 0; step < 30 && hi - lo > tolerance; ++step) {
         float mid = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
         if (!(mid > lo + 0.05f * (hi - lo) && mid < hi - 0.05f * (hi - lo))) mid = 0.5f * (lo + hi);
@@ -623,134 +729,364 @@ bool enter_ply(const CachedCurve& frames, const YarnDescription& d, const YarnTw
     return true;
 }
 
+// Exact Newton steps on f = (P - x0)_perp . P'_perp (the ply-plane crossing) from g, inside the
+// model's bracket [g_lo, g_hi]: settles a model crossing whose miss distance is too close to
+// the ply radius for the model to decide. False when a step leaves the bracket or the steps
+// run out.
+bool exact_crossing(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
+                    int ply, double g, double g_lo, double g_hi, float tolerance, int max_steps, PlyCut& cut,
+                    int& evaluations) {
+    auto across = [&](Vec3 v) { return v - hit.direction * dot(v, hit.direction); };
+    cut = cut_at(frames, d, tw, ply, g);
+    ++evaluations;
+    for (int step = 0; step < max_steps; ++step) {
+        const PlyCentre& p = cut.centre;
+        const Vec3 w = across(p.position - hit.point), d1 = across(p.derivative), d2 = across(p.second_derivative);
+        const float f = dot(w, d1), slope = dot(d1, d1) + dot(w, d2);
+        if (!(slope > 0)) return false;
+        const float ds = -f / slope;  // m of yarn
+        if (std::fabs(ds) < tolerance) return true;
+        const double next = cut.g + ds / std::max(cut.yarn.speed, 1e-30f);
+        if (!(next >= std::min(g_lo, g_hi) && next <= std::max(g_lo, g_hi))) return false;
+        cut = cut_at(frames, d, tw, ply, next);
+        ++evaluations;
+    }
+    return false;
+}
+
+// The stretch of yarn the ray crosses: entry to exit of the straight tube at the hit (on bends
+// the real exit), widened by how far along the yarn a ply's cut can reach; clipped to open
+// yarns' ends. Curve parameters and arc lengths from the hit's cross-section.
+struct Stretch {
+    double g_lo, g_hi;
+    float s_lo, s_hi;
+};
+
+Stretch ray_stretch(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
+                    const CentrelineProjection& at, float tan_psi) {
+    const CurvePoint& c = at.point;
+    const float radius = c.radius;
+    const Vec3 w = hit.point - c.position;
+    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
+    const Vec3 d_perp = hit.direction - c.tangent * dot(hit.direction, c.tangent);
+    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
+    const float chord =
+        (-b + std::sqrt(std::max(b * b - a * std::min(dot(w_perp, w_perp) - radius * radius, 0.0f), 0.0f))) / a;
+    const float along = dot(hit.direction, c.tangent);
+    const float margin = d.ply_radius * radius * (1 + tan_psi) + 0.05f * radius + 0.1f * chord * std::fabs(along);
+    Stretch st;
+    st.s_lo = std::min(0.0f, chord * along) - margin;
+    st.s_hi = std::max(0.0f, chord * along) + margin;
+    const double g0 = at.segment + double(at.t), inv_speed = 1.0 / std::max(c.speed, 1e-30f);
+    st.g_lo = g0 + st.s_lo * inv_speed;
+    st.g_hi = g0 + st.s_hi * inv_speed;
+    if (length(c.curvature) * radius > 0.02f) {
+        // On a bend the straight tube's chord is only a guess: find where the ray really leaves.
+        const TubeExit exit = tube_exit(frames, at.segment, at.t, hit.point, hit.direction);
+        double g_exit = exit.segment + double(exit.t);
+        if (frames.closed()) g_exit = g0 + std::remainder(g_exit - g0, double(frames.segment_count()));
+        const double pad = margin * inv_speed;
+        st.g_lo = std::min(st.g_lo, std::min(g0, g_exit) - pad);
+        st.g_hi = std::max(st.g_hi, std::max(g0, g_exit) + pad);
+    }
+    if (!frames.closed()) {  // open yarns end: no plies beyond them
+        st.g_lo = std::max(st.g_lo, 0.0);
+        st.g_hi = std::min(st.g_hi, double(frames.segment_count()));
+    }
+    st.s_lo = static_cast<float>((st.g_lo - g0) * c.speed);
+    st.s_hi = static_cast<float>((st.g_hi - g0) * c.speed);
+    return st;
+}
+
+// The model-side search of one query: pieces built lazily, in the order the ray meets them,
+// each scanned for every ply's crossings; a search that has every ply crossed and an entry no
+// later piece can beat stops early.
+class ModelSearch {
+public:
+    ModelSearch(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
+                const Stretch& stretch, float radius, const PlyTraceOptions& options)
+        : frames_(frames), d_(d), stretch_(stretch), options_(options),
+          ply_plane_(options.cross_section == PlyCrossSection::elliptical), search_(ply_plane_) {
+        m_.origin = hit.point;
+        m_.ez = hit.direction;
+        m_.distance = d.ply_distance;
+        m_.ply_radius = d.ply_radius;
+        m_.rate = tw.ply_rate;
+        m_.plies = std::min(std::max(1, d.plies()), kMaxPlies);
+        m_.cos_offset = ply_offsets().cos[m_.plies];
+        m_.sin_offset = ply_offsets().sin[m_.plies];
+        // Pieces of at most model_turn radians of ply turn and model_length yarn radii.
+        const float per_piece = std::min(options.model_turn / std::max(std::fabs(tw.ply_rate), 1e-30f),
+                                         options.model_length * radius);
+        m_.pieces = std::min(kMaxPieces, 1 + static_cast<int>((stretch.s_hi - stretch.s_lo) / per_piece));
+        tolerance_ = options.tolerance * radius;
+        slack_ = options.model_margin * radius + tolerance_;
+        shift_ = stretch.s_hi - stretch.s_lo;
+        search_.polys = &polys_[0];
+        for (bool& h : have_) h = false;
+    }
+
+    // x: across the ray and the yarn (the cutting plane's normal); forward: the ray runs toward
+    // larger arc length.
+    void run(Vec3 x, bool forward) {
+        forward_ = forward;
+        m_.ex = x;
+        m_.ey = cross(m_.ez, m_.ex);
+        for (int n = 0; n < m_.pieces; ++n)
+            if (!scan_piece(forward ? n : m_.pieces - 1 - n)) break;
+    }
+
+    const LocalYarn& model() const { return m_; }
+    bool ply_plane() const { return ply_plane_; }
+    float tolerance() const { return tolerance_; }
+    float shift() const { return shift_; }
+    int evaluations = 0;  // exact frames evaluated for the knots
+    Slots<ModelCandidate, kMaxWork> candidates;
+    int count = 0;
+    uint32_t unconverged_mask = 0;
+    uint32_t sure_mask = 0;  // plies crossed by the model's margin
+
+private:
+    // The exact frame at knot j (evenly spaced in curve parameter over the stretch).
+    const Knot& knot(int j) {
+        if (have_[j]) return knots_[j];
+        const double g = stretch_.g_lo + (stretch_.g_hi - stretch_.g_lo) * j / m_.pieces;
+        uint32_t segment;
+        float t;
+        locate(frames_, g, segment, t);
+        const CurvePoint k = frames_.evaluate(segment, t);
+        ++evaluations;
+        if (!origin_set_) s_origin_ = k.arc_length, origin_set_ = true;
+        // Arc length continuous across a loop's seam, from an evaluated neighbour.
+        float s = k.arc_length - s_origin_;
+        const float total = frames_.frames().total_length();
+        if (frames_.closed() && j > 0 && have_[j - 1])
+            while (s < knots_[j - 1].s) s += total;
+        else if (frames_.closed() && j < m_.pieces && have_[j + 1])
+            while (s > knots_[j + 1].s) s -= total;
+        knots_[j] = make_knot(k, g, s, m_);
+        have_[j] = true;
+        return knots_[j];
+    }
+
+    // Builds piece j and finds its crossings; false when no later piece can matter.
+    bool scan_piece(int j) {
+        make_piece(knot(j), knot(j + 1), m_, m_.piece[j]);
+        m_.built_lo = std::min(m_.built_lo, j);
+        m_.built_hi = std::max(m_.built_hi, j);
+        const Piece& q = m_.piece[j];
+        // No entry into a ply near a helix point of this piece comes before this ray distance:
+        // the helix stays within a ply distance of the centre-line, which bulges at most
+        // h^2 kappa / 8.
+        const float a_max = d_.ply_distance * std::max(q.r0, q.r1), r_max = d_.ply_radius * std::max(q.r0, q.r1);
+        const float earliest = std::min(knots_[j].c.z, knots_[j + 1].c.z) - 1.25f * q.h * q.h * q.kappa / 8 -
+                               a_max - r_max - slack_;
+        // Late: entries near this piece cannot win. A ply still within reach where the previous
+        // piece ended may enter back there, so it is not late; the others only matter for N_i.
+        const uint32_t late = ply_plane_ && earliest > best_bound_ ? ~continuing_ : 0u;
+        const uint32_t all = (1u << m_.plies) - 1;
+        if ((late & all) == all && sure_mask == all) return false;
+        for (int i = 0; i < m_.plies; ++i) polys_[i] = m_.ply(i, j);
+        piece_bounds(m_, q, search_);
+        search_.reach2 = sqr(r_max + slack_);
+        search_.count = 0;
+        scan_grid(q, late, sqr(std::max(d_.ply_radius * std::min(q.r0, q.r1) - slack_, 0.0f)));
+        const int first = count;
+        for (int w = 0; w < search_.count && count < kMaxWork; ++w) add_crossing(search_.work[w], j);
+        if (ply_plane_) add_entries(first, late);
+        return true;
+    }
+
+    // Every ply at the piece's grid nodes; intervals that may hold a crossing become work. Also
+    // notes which plies are within reach where the next piece in ray order begins.
+    void scan_grid(const Piece& q, uint32_t late, float sure2) {
+        grid_.set(&polys_[0], m_.plies);
+        float s_prev = q.s0;
+        int prev = 0;
+        grid_.node(m_.plies, 0, q.inv_h, ply_plane_, prev);
+        uint32_t start_reach = 0;
+        for (int i = 0; i < m_.plies; ++i) start_reach |= uint32_t(grid_.D[prev][i] <= search_.reach2) << i;
+        for (int k = 1; k <= kSubsteps; ++k) {
+            const int next = prev ^ 1;
+            const float s_next = q.s0 + q.h * k / kSubsteps;
+            grid_.node(m_.plies, float(k) / kSubsteps, q.inv_h, ply_plane_, next);
+            const float *D0 = grid_.D[prev], *f0 = grid_.f[prev], *slope0 = grid_.slope[prev];
+            const float *D1 = grid_.D[next], *f1 = grid_.f[next], *slope1 = grid_.slope[next];
+            for (int i = 0; i < m_.plies; ++i) {
+                if (ply_plane_ &&
+                    out_of_reach(s_prev, D0[i], s_next, D1[i], search_.reach2, search_.speed, search_.accel))
+                    continue;
+                if (late >> i & 1) {
+                    if (sure_mask >> i & 1) continue;
+                    // A closest approach bracketed with an end this close to the ray: crossed,
+                    // without solving for where.
+                    if (f0[i] < 0 && f1[i] >= 0 && std::min(D0[i], D1[i]) < sure2) {
+                        sure_mask |= 1u << i;
+                        continue;
+                    }
+                }
+                search_.interval(i, {s_prev, D0[i], f0[i], slope0[i]}, {s_next, D1[i], f1[i], slope1[i]}, 0);
+            }
+            s_prev = s_next;
+            prev = next;
+        }
+        uint32_t end_reach = 0;
+        for (int i = 0; i < m_.plies; ++i) end_reach |= uint32_t(grid_.D[prev][i] <= search_.reach2) << i;
+        continuing_ = forward_ ? end_reach : start_reach;
+    }
+
+    // One bracketed crossing solved on the model; the ply plane keeps it if within reach.
+    void add_crossing(const Work& wk, int j) {
+        ModelCandidate mc;
+        mc.ply = wk.ply;
+        mc.piece = j;
+        mc.s_lo = wk.lo.s;
+        mc.s_hi = wk.hi.s;
+        if (!solve(polys_[wk.ply], wk, ply_plane_, tolerance_, options_.max_iterations, mc.s_cross)) {
+            unconverged_mask |= 1u << wk.ply;
+            return;
+        }
+        const ModelPoint p = polys_[wk.ply].at(mc.s_cross);
+        mc.approach = p.p.z;
+        mc.s_enter = mc.s_cross;
+        mc.piece_enter = j;
+        mc.enter = ply_plane_ ? kNoEntry : 0;  // the ply plane's entries come later, where they matter
+        mc.slack = 0;
+        mc.ambiguous = false;
+        mc.miss = 0;
+        if (ply_plane_) {
+            const float miss = std::sqrt(p.p.x * p.p.x + p.p.y * p.p.y);
+            if (miss > p.ply_radius + slack_) return;  // passes beside the ply
+            mc.ambiguous = miss > p.ply_radius - slack_;
+            mc.miss = miss - p.ply_radius;
+            if (!mc.ambiguous) sure_mask |= 1u << wk.ply;
+        }
+        candidates[count++] = mc;
+    }
+
+    // Model entries of the candidates from `first` on, except those of late plies.
+    void add_entries(int first, uint32_t late) {
+        for (int i = first; i < count; ++i) {
+            ModelCandidate& mc = candidates[i];
+            if (late >> mc.ply & 1) continue;
+            float cos_incidence;
+            bool trusted;
+            PlyPoly at_entry = polys_[mc.ply];
+            mc.enter = model_entry(m_, mc.ply, at_entry, std::max(mc.approach, 0.0f), tolerance_,
+                                   options_.refinements, shift_, mc.s_enter, cos_incidence, trusted);
+            mc.piece_enter = at_entry.piece;
+            // An entry the model cannot vouch for is refined whatever its estimate.
+            mc.slack = trusted ? slack_ / std::max(cos_incidence, 0.05f) + tolerance_ : kNoEntry;
+            if (!mc.ambiguous) best_bound_ = std::min(best_bound_, mc.enter + mc.slack);
+        }
+    }
+
+    static constexpr float kNoEntry = 1e30f;
+    const CachedCurve& frames_;
+    const YarnDescription& d_;
+    const Stretch& stretch_;
+    const PlyTraceOptions& options_;
+    bool ply_plane_;
+    float tolerance_ = 0, slack_ = 0, shift_ = 0;
+    LocalYarn m_;
+    Slots<Knot, kMaxPieces + 1> knots_;
+    bool have_[kMaxPieces + 1];
+    float s_origin_ = 0;
+    bool origin_set_ = false;
+    Search search_;
+    Slots<PlyPoly, kMaxPlies> polys_;
+    PieceGrid grid_;  // left uninitialized: filled per piece
+    float best_bound_ = kNoEntry;  // no exact entry can come later than this
+    bool forward_ = true;
+    uint32_t continuing_ = 0;  // plies within reach where the next piece in ray order begins
+};
+
 PlyHit trace_elliptical(const CurveFrames& yarn_frames, const YarnDescription& d, const YarnTwist& tw,
                         const YarnTubeHit& hit, const CentrelineProjection& at, const PlyTraceOptions& options) {
-    // The few segments the ray's stretch spans are expanded once and reused by every ply's
-    // scan and Newton steps.
+    // The few segments the ray's stretch spans are expanded once for the knots and the exact
+    // refinements.
     const CachedCurve frames(yarn_frames);
     const CurvePoint& c = at.point;
     const Vec3 across = cross(c.tangent, hit.direction);
     const float across_length = length(across);
     if (across_length < 1e-4f) return pass_through(yarn_frames, hit, at.segment, at.t);
     const float radius = c.radius;
-
-    CuttingPlane plane;
-    plane.ply_plane = options.cross_section == PlyCrossSection::elliptical;
-    plane.x0 = hit.point;
-    plane.ray = hit.direction;
-    plane.normal = normalize(cross(hit.direction, across / across_length));
-    plane.side = cross(plane.ray, plane.normal);
-
-    // The stretch of yarn the ray crosses: entry to exit of the straight tube at the hit,
-    // widened by how far along the yarn a ply's cut can reach.
-    const Vec3 w = hit.point - c.position;
-    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
-    const Vec3 d_perp = hit.direction - c.tangent * dot(hit.direction, c.tangent);
-    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
-    const float chord = (-b + std::sqrt(std::max(b * b - a * std::min(dot(w_perp, w_perp) - radius * radius, 0.0f), 0.0f))) / a;
     const float along = dot(hit.direction, c.tangent);
-    const float tan_psi = std::fabs(along) / across_length;
-    const float ply_radius = d.ply_radius * radius;
-    const float margin = ply_radius * (1 + tan_psi) + 0.05f * radius + 0.1f * chord * std::fabs(along);
-    float s_lo = std::min(0.0f, chord * along) - margin, s_hi = std::max(0.0f, chord * along) + margin;
-    const double g0 = at.segment + double(at.t), inv_speed = 1.0 / std::max(c.speed, 1e-30f);
-    plane.g_start = g0;
-    plane.g_lo = g0 + s_lo * inv_speed;
-    plane.g_hi = g0 + s_hi * inv_speed;
-    if (length(c.curvature) * radius > 0.02f) {
-        // On a bend the straight tube's chord is only a guess: find where the ray really leaves.
-        const TubeExit exit = tube_exit(yarn_frames, at.segment, at.t, hit.point, hit.direction);
-        double g_exit = exit.segment + double(exit.t), n = frames.segment_count();
-        if (frames.closed()) g_exit = g0 + std::remainder(g_exit - g0, n);
-        const double pad = margin * inv_speed;
-        plane.g_lo = std::min(plane.g_lo, std::min(g0, g_exit) - pad);
-        plane.g_hi = std::max(plane.g_hi, std::max(g0, g_exit) + pad);
-        s_lo = static_cast<float>((plane.g_lo - g0) * c.speed);
-        s_hi = static_cast<float>((plane.g_hi - g0) * c.speed);
-    }
-    if (!frames.closed()) {  // open yarns end: no plies beyond them
-        plane.g_lo = std::max(plane.g_lo, 0.0);
-        plane.g_hi = std::min(plane.g_hi, double(frames.segment_count()));
-        s_lo = static_cast<float>((plane.g_lo - g0) * c.speed);
-        s_hi = static_cast<float>((plane.g_hi - g0) * c.speed);
-    }
-    // A ply's closest approaches to the ray are about a turn apart: sub-intervals of at most
-    // scan_turn radians of ply turn hold at most one each.
-    const float per_interval = std::min(options.scan_turn / std::max(std::fabs(tw.ply_rate), 1e-30f),
-                                        options.scan_length * radius);
-    plane.samples = std::min(kMaxScan, 1 + static_cast<int>((s_hi - s_lo) / per_interval));
-    // The Newton start is the tube hit's own cross-section, already evaluated, unless a
-    // clipped window moved it.
-    int evaluations = 0;
-    if (plane.g_start >= plane.g_lo && plane.g_start <= plane.g_hi) {
-        plane.start = c;
-        plane.start_segment = at.segment;
-        plane.start_t = at.t;
-    } else {
-        plane.g_start = std::min(std::max(plane.g_start, plane.g_lo), plane.g_hi);
-        locate(frames, plane.g_start, plane.start_segment, plane.start_t);
-        plane.start = frames.evaluate(plane.start_segment, plane.start_t);
-        ++evaluations;
-    }
-    plane.twist = tw.ply_rate;
-    plane.start_cos = std::cos(tw.ply_rate * plane.start.arc_length);
-    plane.start_sin = std::sin(tw.ply_rate * plane.start.arc_length);
-    plane.plies = std::min(std::max(1, d.plies()), kMaxPlies);
-    plane.ply_cos = ply_offsets().cos[plane.plies];
-    plane.ply_sin = ply_offsets().sin[plane.plies];
-    const float half = s_hi - s_lo;  // bound on refinement steps, m
+    const Stretch stretch = ray_stretch(yarn_frames, d, hit, at, std::fabs(along) / across_length);
+    if (!(stretch.s_hi - stretch.s_lo > 1e-6f * radius)) return pass_through(yarn_frames, hit, at.segment, at.t);
 
-    // A closest approach within the ply radius is a crossing; where the ray enters the ply
-    // there comes from the cut's cylinder, corrected against the helix (enter_ply).
-    const float tolerance = options.tolerance * radius;
-    uint32_t crossed_mask = 0;
-    bool converged = true;
-    int best = -1, worst = 0;
-    Slots<Candidate, kMaxCandidates> candidates;
-    int count = 0;
-    for (int ply = 0; ply < d.plies(); ++ply) {
-        Pierces p = pierce(frames, d, tw, ply, plane, options, radius);
-        evaluations += p.evaluations;
-        worst = std::max(worst, p.evaluations);
-        if (!p.converged) {
-            // Fallback: this ply as the circular method sees it, at the tube hit's cross-section.
-            converged = false;
-            Candidate cand{ply, cut_at_hit(at, d, tw, ply)};
-            Vec3 normal;
-            cand.fixed = circular_cut_hit(hit, at, cand.cut.centre, cand.enter, normal);
-            if (cand.fixed && count < kMaxCandidates) candidates[count++] = cand;
+    ModelSearch search(frames, d, tw, hit, stretch, radius, options);
+    search.run(normalize(cross(hit.direction, across / across_length)), along >= 0);
+    const LocalYarn& m = search.model();
+    const bool ply_plane = search.ply_plane();
+    const float tolerance = search.tolerance();
+    int evaluations = search.evaluations;
+
+    // Exact work: ambiguous misses settled on the curve, then entries refined in the order of
+    // the model's, until the next model entry (less its slack) is past the best exact one.
+    uint32_t crossed_mask = ply_plane ? search.sure_mask : 0;
+    int order[kMaxWork];
+    int kept = 0;
+    for (int i = 0; i < search.count; ++i) {
+        ModelCandidate& mc = search.candidates[i];
+        if (mc.ambiguous) {
+            PlyCut cut;
+            mc.ambiguous = exact_crossing(frames, d, tw, hit, mc.ply, m.g(mc.piece, mc.s_cross),
+                                          m.g(mc.piece, mc.s_lo), m.g(mc.piece, mc.s_hi), tolerance,
+                                          std::max(options.max_iterations, 1), cut, evaluations);
+            if (mc.ambiguous) {  // settled: the exact miss decides, and a graze needs the exact approach
+                const Vec3 w = cut.centre.position - hit.point;
+                mc.approach = dot(w, hit.direction);
+                if (length(w - hit.direction * mc.approach) > cut.centre.radius + kGraze * tolerance) continue;
+            } else if (mc.miss > 0) {
+                continue;  // not settled: the model's own miss decides
+            }
         }
-        for (int k = 0; k < p.count; ++k) {
-            Candidate cand{ply, p.cuts[k]};
-            const Vec3 w = cand.cut.centre.position - hit.point;
-            cand.approach = dot(w, hit.direction);
-            const float miss = length(w - hit.direction * cand.approach);
-            if (miss > cand.cut.centre.radius && plane.ply_plane) continue;  // passes beside the ply
-            if (count < kMaxCandidates) candidates[count++] = cand;
+        if (ply_plane) crossed_mask |= 1u << mc.ply;
+        int k = kept++;  // insertion by entry less slack
+        for (; k > 0 && search.candidates[order[k - 1]].enter - search.candidates[order[k - 1]].slack >
+                            mc.enter - mc.slack;
+             --k)
+            order[k] = order[k - 1];
+        order[k] = i;
+    }
+    Candidate best;
+    bool found = false;
+    int worst = 0;
+    for (int n = 0; n < kept; ++n) {
+        const ModelCandidate& mc = search.candidates[order[n]];
+        if (ply_plane && found && mc.enter - mc.slack >= best.enter) break;
+        // From the model's helix point nearest the entry: usually within tolerance already.
+        int spent = 1;
+        Candidate cand{mc.ply, cut_at(frames, d, tw, mc.ply, m.g(mc.piece_enter, mc.s_enter))};
+        cand.approach = mc.approach;
+        if (enter_ply(frames, d, tw, hit, ply_plane, tolerance, options.refinements, search.shift(), cand, spent)) {
+            if (!ply_plane) crossed_mask |= 1u << cand.ply;
+            if (!found || cand.enter < best.enter) best = cand;
+            found = true;
         }
+        evaluations += spent;
+        worst = std::max(worst, spent);
     }
-    for (int i = 0; i < count; ++i) {
-        Candidate& cand = candidates[i];
-        if (!cand.fixed &&
-            !enter_ply(frames, d, tw, hit, plane.ply_plane, tolerance, options.refinements, half, cand, evaluations))
-            continue;
-        crossed_mask |= 1u << cand.ply;
-        if (best < 0 || cand.enter < candidates[best].enter) best = i;
+
+    // Fallback: a ply whose crossing did not converge is taken as the circular method sees it,
+    // at the tube hit's cross-section.
+    for (int ply = 0; ply < m.plies; ++ply) {
+        if (!(search.unconverged_mask >> ply & 1)) continue;
+        Candidate cand{ply, cut_at_hit(at, d, tw, ply)};
+        Vec3 normal;
+        if (!circular_cut_hit(hit, at, cand.cut.centre, cand.enter, normal)) continue;
+        crossed_mask |= 1u << ply;
+        if (!found || cand.enter < best.enter) best = cand;
+        found = true;
     }
-    if (best >= 0) {
-        const Candidate& cand = candidates[best];
-        const Vec3 point = hit.point + hit.direction * std::max(cand.enter, 0.0f);
-        PlyHit h = finish_hit(cand, point, tw, hit);
-        h.plies_crossed = __builtin_popcount(crossed_mask);
-        h.iterations = evaluations;
-        h.max_ply_iterations = worst;
-        h.converged = converged;
-        return h;
-    }
-    PlyHit h = pass_through(yarn_frames, hit, at.segment, at.t);
+
+    PlyHit h = found ? finish_hit(best, hit.point + hit.direction * std::max(best.enter, 0.0f), tw, hit)
+                     : pass_through(yarn_frames, hit, at.segment, at.t);
+    if (found) h.plies_crossed = __builtin_popcount(crossed_mask);
     h.iterations = evaluations;
     h.max_ply_iterations = worst;
-    h.converged = converged;
+    h.converged = search.unconverged_mask == 0;
     return h;
 }
 

@@ -1,16 +1,16 @@
 // Implicit plies (Khattar et al. 2024, section 3.3): given a ray that entered the yarn tube,
 // find the ply it meets, without any ply geometry in the scene. Plies are the helices of
-// ply_helix.h; docs/implicit-geometry.md has the measured accuracy.
+// ply_helix.h; docs/implicit-geometry.md has the algorithm and the measured accuracy.
 //
 // Elliptical cross-section (default): for every ply, where its centre-line crosses a plane
-// through the ray, starting from the tube hit's circular cross-section. The plane holds the ray
-// and the direction perpendicular to both the ray and the ply's own tangent, so the ply's cut
-// in it is an ellipse centred on the crossing, and the crossings are the centre-line's closest
-// approaches to the ray. Near side views one Newton solve per ply; at oblique views the yarn
-// stretch the ray crosses is scanned and every crossing solved by safeguarded Newton steps.
-// A crossing within the ply radius is a ply the ray crosses (N_i); the ray is traced in the
-// plane against the cut (the ply as a cylinder along its tangent there), and that entry is
-// corrected against the helix point closest to it. The nearest entry wins.
+// through the ray. The plane holds the ray and the direction perpendicular to both the ray and
+// the ply's own tangent, so the ply's cut in it is an ellipse centred on the crossing, and the
+// crossings are the centre-line's closest approaches to the ray. One local model of the yarn
+// per query (its centre-line and frame over the stretch the ray crosses, interpolated between a
+// few exact frames and expressed in the ray's coordinates) gives every ply's crossings, miss
+// distances and entries with a sine-free per-ply loop; only the winning ply's entry (and any
+// crossing the model cannot decide) is refined on the exact curve, so the result is that of
+// exact Newton steps. A crossing within the ply radius is a ply the ray crosses (N_i).
 //
 // elliptical_yarn_plane: the paper's plane taken literally (one plane for all plies, oriented
 // by the yarn's tangent); it loses plies at oblique views, kept for comparison. Circular (Zhu
@@ -32,17 +32,18 @@ enum class PlyCrossSection {
 
 struct PlyTraceOptions {
     PlyCrossSection cross_section = PlyCrossSection::elliptical;
-    int max_iterations = 12;  // Newton steps per crossing before the fallback
+    int max_iterations = 12;  // Newton steps per crossing (on the local model) before the fallback
     float tolerance = 1e-4f;  // yarn radii: a ply centre moving less than this has converged
     int refinements = 5;      // closest-point corrections of each candidate ply hit
-    // The yarn stretch the ray crosses is scanned in sub-intervals of at most scan_turn radians
-    // of ply turn and scan_length yarn radii (a closest approach hides in each at most once,
-    // or shows in the slopes at its ends); near side views one interval suffices.
-    float scan_turn = 1.5f;
-    float scan_length = 2.0f;
-    // Skip the crossings of plies whose centre-line provably (up to a model error allowed for
-    // three times over) stays more than a ply radius from the ray (elliptical only).
-    bool cull = true;
+    // The local model of the yarn over the ray's stretch is built from exact frames at most
+    // model_turn radians of ply turn and model_length yarn radii apart.
+    float model_turn = 1.5f;
+    float model_length = 2.0f;
+    // Yarn radii the model may be off by: a crossing whose model miss distance is within this
+    // of the ply radius is settled on the exact curve, and exact entries are refined until the
+    // next model entry, less this margin (over the cosine of incidence), is past the best one.
+    // A large value resolves every crossing exactly (slow; for tests).
+    float model_margin = 0.005f;
 };
 
 // The renderer's yarn-tube hit: the ray and where it entered the tube.
@@ -70,8 +71,8 @@ struct PlyHit {
     float arrangement_azimuth = 0;  // rad in [0, 2 pi): u_yarn relative to ply 0 (G_p map coordinate)
     uint32_t segment = 0;   // centre-line parameter of the ply point's cross-section
     float t = 0;
-    int iterations = 0;     // curve evaluations spent (scan sections, Newton steps, corrections)
-    int max_ply_iterations = 0;  // most curve evaluations one ply's crossing search needed
+    int iterations = 0;     // exact curve evaluations spent (model frames, refinements)
+    int max_ply_iterations = 0;  // most exact curve evaluations one ply's entry refinement needed
     bool converged = true;  // false when a ply fell back to the circular cross-section
 };
 

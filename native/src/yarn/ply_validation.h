@@ -43,7 +43,7 @@ struct MethodStats {
     std::vector<float> normal_error;   // degrees, rays where both hit the same ply
     std::vector<float> tangent_error;  // degrees, rays where both hit the same ply
     std::vector<float> distance_error;  // yarn radii along the ray, same rays
-    std::vector<int> iterations;       // most Newton steps any ply needed, per ray
+    std::vector<int> iterations;       // most exact curve evaluations one ply's refinement needed, per ray
 
     double agreement() const { return rays ? double(agree) / rays : 1.0; }
     double mean(const std::vector<float>& v) const;

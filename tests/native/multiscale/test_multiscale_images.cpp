@@ -115,8 +115,11 @@ TEST(MultiscaleImages, GloveAtThreeDistancesMatchesItsReferences) {
             } else {
                 EXPECT_TRUE(s.warnings.empty()) << name;
             }
-            if (mode != MultiscaleMode::Near) {
+            if (mode == MultiscaleMode::Multi) {
                 EXPECT_GT(s.mean_h_samples(), 1.0) << name;
+            }
+            if (mode == MultiscaleMode::Far) {
+                EXPECT_EQ(s.h_samples, 0u) << name;  // the tabulated far field traces nothing
             }
             if (std::string(view.name) == "far" && mode != MultiscaleMode::Near) {
                 // Yarns below a pixel: multi, far and auto average the pixel's yarn and
@@ -152,12 +155,15 @@ TEST(MultiscaleImages, FootprintLimitsGiveNearAndFar) {
     EXPECT_EQ(zero.stats.hits_multi + zero.stats.hits_far, 0u);  // no footprint: shaded and counted near
     EXPECT_DOUBLE_EQ(zero.stats.mean_h_samples(), 1.0);
 
-    // 5 h samples keep this cheap; multi and far use the same ones.
-    const Rendered wide = render_mode(renderer, MultiscaleMode::Multi, kTestSeed, 16.0f, 5.0f);
-    const Rendered far = render_mode(renderer, MultiscaleMode::Far, kTestSeed, 16.0f, 5.0f);
-    const double d_far = max_pixel_difference(wide.rgb, far.rgb);
-    std::printf(" multi, footprint 16 px vs far: largest pixel difference %.2e of the mean\n", d_far);
-    EXPECT_LT(d_far, 1e-3);
+    // Multi over the whole yarn is the sampled far field; far mode shades the table built from
+    // it (straight yarn, phase-averaged): equal within the noise of two models' paths.
+    const Rendered wide = render_mode(renderer, MultiscaleMode::Multi, kTestSeed, 16.0f);
+    const Rendered far = render_mode(renderer, MultiscaleMode::Far, kTestSeed, 16.0f);
+    EXPECT_EQ(wide.stats.hits_far + wide.stats.hits_near, 0u);
+    const double d_far = relative_rmse(wide.rgb, far.rgb), mean_ratio = image_mean(far.rgb) / image_mean(wide.rgb);
+    std::printf(" multi, footprint 16 px vs far (table): relative RMSE %.3f, mean ratio %.4f\n", d_far, mean_ratio);
+    EXPECT_LT(d_far, 0.22);  // the mid view's tolerance against its own references
+    EXPECT_NEAR(mean_ratio, 1.0, 0.03);
     EXPECT_GT(max_pixel_difference(near.rgb, far.rgb), 0.1);  // and far is not near here
 }
 

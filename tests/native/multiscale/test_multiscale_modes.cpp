@@ -32,6 +32,15 @@ TEST(MultiscaleModes, AutoPicksByFootprint) {
     EXPECT_EQ(auto_mode.choose(footprint(0.3f, 2.7f), d), MultiscaleMode::Far);  // reaches both silhouettes
     // Clamped at a silhouette, what counts is the range actually covered.
     EXPECT_EQ(auto_mode.choose(footprint(0.999f, 1.6f * fiber), d), MultiscaleMode::Near);  // 0.8 fiber
+    // A pixel as wide as the yarn (far_limit 1) is far even where its footprint ends inside the yarn.
+    EXPECT_EQ(auto_mode.choose(footprint(0.8f, 2.0f), d), MultiscaleMode::Far);
+    MultiscaleSettings s = default_multiscale_settings();
+    s.far_limit = 2;
+    EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.8f, 2.0f), d), MultiscaleMode::Multi);
+    s.far_limit = 0.5f;  // half a yarn per pixel
+    EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.0f, 1.0f), d), MultiscaleMode::Far);
+    s.footprint_scale = 2;  // the limit is per pixel, not per (scaled) footprint
+    EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.0f, 1.0f), d), MultiscaleMode::Multi);
     EXPECT_FALSE(auto_mode.warned());
 }
 
