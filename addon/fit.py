@@ -96,7 +96,7 @@ class PURL_OT_fit_to_image(bpy.types.Operator):
                 "Purl fit: iteration {} of {}, mse {:.4g} (Esc stops)".format(
                     state["iteration"], self.iterations, state["mse"]))
         if not self._job.finished:
-            return {"RUNNING_MODAL"}
+            return {"PASS_THROUGH"}  # other timers are not ours to swallow
         wm.event_timer_remove(self._timer)
         wm.progress_end()
         context.area and context.area.header_text_set(None)
@@ -110,8 +110,8 @@ class PURL_OT_fit_to_image(bpy.types.Operator):
         preset = job.result
         material = bpy.data.materials.get(self._material_name)
         if material is None:
-            self.report({"WARNING"}, "material '{}' is gone; the fit is only in the preset file".format(
-                self._material_name))
+            self.report({"WARNING"}, "material '{}' was removed during the fit; the result is not applied{}".format(
+                self._material_name, " (it is in the preset file)" if self.preset_path else ""))
         else:
             for warning in _apply_fitted(material, preset):
                 self.report({"WARNING"}, warning)
