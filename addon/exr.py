@@ -37,10 +37,8 @@ def _channel_list(raw):
     return channels
 
 
-def read_exr(path):
-    """{channel name: float32 (H, W)}, rows top to bottom. Raises ValueError for files it cannot read."""
-    with open(path, "rb") as f:
-        data = f.read()
+def _headers(data, path):
+    """(the parts' headers, the position of the first offset table, whether the file is multi-part)."""
     if data[:4] != MAGIC:
         raise ValueError("{} is not an OpenEXR file".format(path))
     (version,) = struct.unpack_from("<i", data, 4)
@@ -53,6 +51,21 @@ def read_exr(path):
             break
     if multipart:
         pos += 1  # the empty header that ends the list
+    return headers, pos, multipart
+
+
+def channel_names(path):
+    """Every part's channel names in file order; reads headers only, so any compression is fine."""
+    with open(path, "rb") as f:
+        headers, _, _ = _headers(f.read(), path)
+    return [name for header in headers for name, _ in _channel_list(header["channels"])]
+
+
+def read_exr(path):
+    """{channel name: float32 (H, W)}, rows top to bottom. Raises ValueError for files it cannot read."""
+    with open(path, "rb") as f:
+        data = f.read()
+    headers, pos, multipart = _headers(data, path)
     planes = {}
     for header in headers:
         if header["compression"][0] != 0:

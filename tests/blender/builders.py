@@ -1,8 +1,10 @@
 """Small builders for test scenes: cameras, lights, curves, planes."""
 import os
+import subprocess
 from importlib import import_module
 
 import bpy
+import pytest
 
 from exr import read_channels
 
@@ -83,3 +85,21 @@ def save_render_result(scene, path):
     settings.exr_codec, settings.color_depth = "NONE", "32"
     bpy.data.images["Render Result"].save_render(str(path), scene=scene)
     return read_channels(str(path))
+
+
+def render_saved_file(purl, tmp_path, *arguments):
+    """Saves the open file and renders frame 1 of it in a `blender -b` child with the add-on
+    enabled, output to tmp_path/out_0001.*; skips where there is no blender binary (the bpy
+    module). Returns the finished process."""
+    binary = bpy.app.binary_path
+    if not binary or not os.path.basename(binary).startswith("blender"):
+        pytest.skip("needs the blender binary (the bpy module has none)")
+    blend = tmp_path / "scene.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+    scripts = tmp_path / "scripts"
+    (scripts / "addons").mkdir(parents=True)
+    os.symlink(os.path.dirname(purl.__file__), scripts / "addons" / "purl")
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(scripts))
+    return subprocess.run([binary, "-b", str(blend), "--addons", "purl", "-E", "PURL",
+                           "-o", str(tmp_path / "out_####"), *arguments, "-f", "1"],
+                          env=env, capture_output=True, text=True, timeout=300)

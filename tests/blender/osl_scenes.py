@@ -127,7 +127,7 @@ def native_scene(json_scene, curves_points, spp):
     (end points repeated: the native Catmull-Rom skips the first and last, Cycles does not)."""
     scene = copy.deepcopy(json_scene)
     yarn = scene["yarns"][0]
-    points, radii, offsets = [], [], [0]
+    points, offsets = [], [0]
     for p in curves_points:
         padded = np.concatenate([p[:1], p, p[-1:]])
         points.append(padded)

@@ -1,13 +1,11 @@
 """Composite back into Cycles: one render in which Cycles draws the scene without the yarns, Purl
 the yarns with meshes as holdouts, laid one over the other by the add-on."""
-import os
-import subprocess
 
 import bpy
 import numpy as np
 import pytest
 
-from builders import add_curve, add_light, add_plane, compat, save_render_result
+from builders import add_curve, add_light, add_plane, compat, render_saved_file, save_render_result
 from exr import read_channels
 
 LAYER = "ViewLayer"
@@ -100,22 +98,11 @@ def test_composite_yarn_casts_its_shadow_in_cycles(purl, core, scene, tmp_path):
 
 
 def test_composite_from_the_command_line(purl, core, scene, tmp_path):
-    binary = bpy.app.binary_path
-    if not binary or not os.path.basename(binary).startswith("blender"):
-        pytest.skip("needs the blender binary (the bpy module has none; the tests above render headless)")
     composite_scene(scene)
     settings = scene.render.image_settings
     compat.set_multilayer_exr(settings)
     settings.exr_codec, settings.color_depth = "NONE", "32"
-    blend = tmp_path / "composite.blend"
-    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
-    scripts = tmp_path / "scripts"
-    (scripts / "addons").mkdir(parents=True)
-    os.symlink(os.path.dirname(purl.__file__), scripts / "addons" / "purl")
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(scripts))
-    result = subprocess.run([binary, "-b", str(blend), "--addons", "purl", "-E", "PURL",
-                             "-o", str(tmp_path / "out_####"), "-f", "1"],
-                            env=env, capture_output=True, text=True, timeout=300)
+    result = render_saved_file(purl, tmp_path)
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
     path = tmp_path / "out_0001.exr"
     assert path.is_file(), result.stdout[-2000:]

@@ -1,7 +1,6 @@
 """Rendering through the Purl engine: an image with the expected passes, cancel, bad input that
 is reported without stopping the render, scripted and animation renders."""
 import os
-import subprocess
 import time
 from importlib import import_module
 
@@ -9,7 +8,7 @@ import bpy
 import numpy as np
 import pytest
 
-from builders import add_curve, add_light, compat, save_render_result
+from builders import add_curve, add_light, compat, render_saved_file, save_render_result
 from exr import channel_names
 
 LAYER = "ViewLayer"
@@ -148,18 +147,7 @@ def test_animation_exports_every_frame(purl, core, scene, tmp_path):
 
 
 def test_command_line_render_of_a_saved_file(purl, core, scene, tmp_path):
-    binary = bpy.app.binary_path
-    if not binary or not os.path.basename(binary).startswith("blender"):
-        pytest.skip("needs the blender binary (the bpy module has none)")
     yarn_scene(scene)
-    blend = tmp_path / "scene.blend"
-    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
-    scripts = tmp_path / "scripts"
-    (scripts / "addons").mkdir(parents=True)
-    os.symlink(os.path.dirname(purl.__file__), scripts / "addons" / "purl")
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(scripts))
-    result = subprocess.run([binary, "-b", str(blend), "--addons", "purl", "-E", "PURL",
-                             "-o", str(tmp_path / "out_####"), "-F", "PNG", "-f", "1"],
-                            env=env, capture_output=True, text=True, timeout=300)
+    result = render_saved_file(purl, tmp_path, "-F", "PNG")
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
     assert (tmp_path / "out_0001.png").stat().st_size > 0, result.stdout[-2000:]
