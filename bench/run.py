@@ -138,6 +138,11 @@ def describe_machine(args):
         pass
     commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True).stdout.strip()
+    # A tree with uncommitted source changes is not that commit (results/ itself does not count).
+    dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", ".", ":!bench/results"],
+                           capture_output=True, text=True).stdout.strip()
+    if commit and dirty:
+        commit += " + uncommitted changes"
     return {"cpu": cpu, "cores": os.cpu_count(), "memory_gib": mem_gib, "threads": args.threads,
             "os": platform.platform(), "python": platform.python_version(), "commit": commit or "unknown",
             "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),

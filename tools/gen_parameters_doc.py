@@ -50,7 +50,7 @@ def render_markdown(purlcore):
 
 
 def main():
-    sys.path.insert(0, os.path.join(HERE, "..", "build"))
+    sys.path.insert(0, os.path.join(HERE, "..", os.environ.get("PURL_BUILD_DIR", "build")))
     import purlcore
 
     with open(DOC, "w", encoding="utf-8") as f:

@@ -4,6 +4,8 @@
 //   BM_ImplicitAllRays BM_Implicit over all 512 rays per iteration, 4 iterations (fixed work:
 //                      for instruction counts, e.g. valgrind --tool=callgrind)
 //   BM_ImplicitPlies   trace_plies only (elliptical)
+//   BM_Local           trace_yarn_hit with the local method (yarn straightened at the hit)
+//   BM_LocalPlies      trace_plies only (local)
 //   BM_Circular        trace_plies with the circular cross-section (the older method)
 //   BM_EmbreeTube      Embree ray against the yarn's round B-spline curve (what precedes BM_Implicit)
 //   BM_EmbreePlies     Embree ray against every ply as its own round B-spline curve (ply-based model)
@@ -123,14 +125,18 @@ Setup& setup(int plies, int view) {
     return *s;
 }
 
-void BM_Implicit(benchmark::State& state) {
+void query(benchmark::State& state, PlyCrossSection method) {
     Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    PlyTraceOptions o;
+    o.cross_section = method;
     size_t i = 0;
     for (auto _ : state) {
-        const YarnShadingPoint sp = trace_yarn_hit(s.frames, s.description, s.maps, s.hits[i++ % kRays], 3);
+        const YarnShadingPoint sp = trace_yarn_hit(s.frames, s.description, s.maps, s.hits[i++ % kRays], 3, o);
         benchmark::DoNotOptimize(sp);
     }
 }
+void BM_Implicit(benchmark::State& state) { query(state, PlyCrossSection::elliptical); }
+void BM_Local(benchmark::State& state) { query(state, PlyCrossSection::local); }
 
 // Every prepared ray once per iteration, a fixed number of iterations: the same work in every
 // run, for instruction counts under callgrind (time per ray = reported time / 512).
@@ -140,19 +146,17 @@ void BM_ImplicitAllRays(benchmark::State& state) {
         for (const YarnTubeHit& h : s.hits) benchmark::DoNotOptimize(trace_yarn_hit(s.frames, s.description, s.maps, h, 3));
 }
 
-void BM_ImplicitPlies(benchmark::State& state) {
-    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-    size_t i = 0;
-    for (auto _ : state) benchmark::DoNotOptimize(trace_plies(s.frames, s.description, s.hits[i++ % kRays]));
-}
 
-void BM_Circular(benchmark::State& state) {
+void plies_only(benchmark::State& state, PlyCrossSection method) {
     Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
     PlyTraceOptions o;
-    o.cross_section = PlyCrossSection::circular;
+    o.cross_section = method;
     size_t i = 0;
     for (auto _ : state) benchmark::DoNotOptimize(trace_plies(s.frames, s.description, s.hits[i++ % kRays], o));
 }
+void BM_ImplicitPlies(benchmark::State& state) { plies_only(state, PlyCrossSection::elliptical); }
+void BM_LocalPlies(benchmark::State& state) { plies_only(state, PlyCrossSection::local); }
+void BM_Circular(benchmark::State& state) { plies_only(state, PlyCrossSection::circular); }
 
 void BM_EmbreeTube(benchmark::State& state) {
     Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
@@ -240,6 +244,8 @@ void arguments(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Implicit)->Apply(arguments);
 BENCHMARK(BM_ImplicitAllRays)->Apply(arguments)->Iterations(4);
 BENCHMARK(BM_ImplicitPlies)->Apply(arguments);
+BENCHMARK(BM_Local)->Apply(arguments);
+BENCHMARK(BM_LocalPlies)->Apply(arguments);
 BENCHMARK(BM_Circular)->Apply(arguments);
 BENCHMARK(BM_EmbreeTube)->Apply(arguments);
 BENCHMARK(BM_EmbreePlies)->Apply(arguments);

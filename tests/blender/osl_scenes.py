@@ -116,7 +116,7 @@ def build_blender_scene(scene, core, json_scene, samples):
     cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
     cycles.pixel_filter_type = "BOX"
     cycles.filter_width = 1.0
-    cycles.seed = 1
+    cycles.seed = int(os.environ.get("PURL_OSL_SEED", "1"))
     scene.view_settings.view_transform = "Standard"
     scene.render.film_transparent = True
     return ob, curves_points

@@ -112,11 +112,12 @@ def test_fig7_scene_renders_in_cycles_with_osl(cycles_scene, core, tmp_path, pli
     assert black.sum() <= 0.02 * yarn.sum(), "{} black yarn pixels of {}".format(int(black.sum()), int(yarn.sum()))
 
 
-# Mean HDR-FLIP of Cycles+OSL against the native core at 96 x 48, 16 spp (seed 1), measured when
-# the shader got the native migration hash and the transmission extinction at the entry
-# (docs/osl.md): 0.140, 0.209, 0.173; other seeds move it by 0.006 at most, the shader before
-# those changes measured 0.155, 0.268, 0.213. A limit about 0.01 above the measurement catches that.
-FLIP_LIMITS = {(1, "front"): 0.150, (3, "back"): 0.220, (6, "both"): 0.185}
+# Mean HDR-FLIP of Cycles+OSL against the native core at 96 x 48, 16 spp (seed 1), measured with
+# the f_x^B toon share for lights behind the tube normal (docs/osl.md): 0.137, 0.210, 0.173
+# (before it 0.140, 0.209, 0.173; other seeds moved those by 0.006 at most; the shader before the
+# native migration hash and the transmission extinction at the entry measured 0.155, 0.268,
+# 0.213). A limit about 0.01 above the measurement catches a regression of that size.
+FLIP_LIMITS = {(1, "front"): 0.147, (3, "back"): 0.220, (6, "both"): 0.185}
 
 
 @needs_osl
@@ -130,4 +131,6 @@ def test_osl_stays_close_to_the_native_core(cycles_scene, core, tmp_path, plies,
     native_scene, arrays = osl_scenes.native_scene(json_scene, curves, 16)
     native = np.asarray(core.render(native_scene, arrays, threads=2)["Combined"])[..., :3]
     _, mean_flip, _ = flip.evaluate(native.astype(np.float32), cycles.astype(np.float32), "HDR")
-    assert mean_flip <= FLIP_LIMITS[(plies, lighting)], "FLIP {:.3f} against the native core".format(mean_flip)
+    limit = FLIP_LIMITS[(plies, lighting)]
+    print("{} plies, {}: HDR-FLIP {:.3f} (limit {:.3f})".format(plies, lighting, mean_flip, limit))
+    assert mean_flip <= limit, "FLIP {:.3f} against the native core".format(mean_flip)

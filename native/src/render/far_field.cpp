@@ -82,6 +82,10 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
     const BysdfParams markers = marker_params(material);
     MultiscaleSettings settings = s;
     settings.aggregation = MultiscaleAggregation::Mixture;
+    // The table is a long average: its models take every h sample a full footprint allows,
+    // whatever a render's own per-hit limit (not part of the cache key).
+    settings.max_h_samples = float(kMaxHSamples);
+    settings.sample_spacing = 1.0f;
     const Vec3 axis(0, 0, 1);
 
     std::atomic<int> done{0};

@@ -38,27 +38,33 @@ float chord_in_radii(Vec3 offset, Vec3 axis, Vec3 d) {
     return clamp((-b + safe_sqrt(b * b - a * c)) / a, 0.0f, kMaxChord);
 }
 
-// The tube hit of the line parallel to the camera ray at `dh` yarn radii across the yarn.
-YarnTubeHit virtual_hit(const CurveFrames& frames, const MultiscaleQuery& q, float dh) {
+// The line parallel to the camera ray at `dh` yarn radii across the yarn, entering the
+// straight tube of the camera ray's cross-section (the camera ray itself if it misses).
+YarnTubeHit virtual_entry(const MultiscaleQuery& q, float dh) {
     const CurvePoint& c = q.axis.point;
     YarnTubeHit h = q.tube;
     h.origin = q.tube.origin + q.footprint.across * (dh * c.radius);
-    Vec3 entry;
-    if (!cylinder_entry(h.origin, h.direction, c.position, c.tangent, c.radius, 1e-3f, entry)) return q.tube;
-    // Follow the entry along the centre-line; on a bend, re-enter the tube of that cross-section.
+    if (!cylinder_entry(h.origin, h.direction, c.position, c.tangent, c.radius, 1e-3f, h.point)) return q.tube;
+    return h;
+}
+
+// The same followed along the centre-line to the entry's own cross-section (on a bend,
+// re-entering the tube there), for the methods that project the hit themselves.
+YarnTubeHit virtual_hit(const CurveFrames& frames, const MultiscaleQuery& q, float dh) {
+    YarnTubeHit h = virtual_entry(q, dh);
+    const CurvePoint& c = q.axis.point;
     uint32_t segment = q.axis.segment;
     float t = q.axis.t;
-    const float along = dot(entry - c.position, c.tangent);
+    const float along = dot(h.point - c.position, c.tangent);
     frames.advance(segment, t, along / std::max(c.speed, 1e-30f));
     if (std::fabs(along) > 0.25f * c.radius) {
         const CurvePoint c2 = frames.evaluate_centreline(segment, t);
         Vec3 entry2;
         if (cylinder_entry(h.origin, h.direction, c2.position, c2.tangent, c2.radius, 0.05f, entry2)) {
             frames.advance(segment, t, dot(entry2 - c2.position, c2.tangent) / std::max(c2.speed, 1e-30f));
-            entry = entry2;
+            h.point = entry2;
         }
     }
-    h.point = entry;
     h.segment = segment;
     h.t = t;
     return h;
@@ -164,6 +170,11 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     const float cell = width > 0 ? width / float(k_count) : 1.0f;
     const int j_lo = width > 0 ? static_cast<int>(std::floor((h1_ - fp.h0) / cell + 0.5f)) : 0;
     const int j_hi = width > 0 ? static_cast<int>(std::ceil((h2_ - fp.h0) / cell - 0.5f)) : 0;
+    // The virtual rays only feed an average: they take the local method around the camera
+    // ray's own cross-section (q.axis), exact on straight yarns and with no curve evaluation
+    // (docs/multiscale.md).
+    const bool local = yarn.trace.cross_section != PlyCrossSection::circular;
+    const YarnTwist twist = yarn_twist(frames, desc);
     YarnShadingPoint hits[kMaxHSamples];
     float hit_h[kMaxHSamples], hit_len[kMaxHSamples];
     int hit_count = 0, nearest = -1;
@@ -181,8 +192,16 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
         }
         ++samples_;
         total_length += len;
-        const YarnTubeHit tube = j == 0 ? q.tube : virtual_hit(frames, q, h - h_main);
-        const YarnShadingPoint y = trace_yarn_hit(frames, desc, *yarn.maps, tube, yarn.curve_key, yarn.trace);
+        YarnShadingPoint y;
+        if (j == 0) {
+            y = trace_yarn_hit(frames, desc, *yarn.maps, q.tube, yarn.curve_key, yarn.trace);
+        } else if (local) {
+            const PlyHit ply = trace_plies_local(frames, desc, twist, virtual_entry(q, h - h_main), q.axis, yarn.trace);
+            y = shade_ply_hit(ply, frames, desc, twist, *yarn.maps, yarn.curve_key);
+        } else {
+            const YarnTubeHit tube = virtual_hit(frames, q, h - h_main);
+            y = trace_yarn_hit(frames, desc, *yarn.maps, tube, yarn.curve_key, yarn.trace);
+        }
         if (!y.hit) continue;
         if (j == 0) own_hit = true;
         if (j == 0 || (!own_hit && (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0))))

@@ -9,8 +9,9 @@
 // stratified samples of h (one per `sample_spacing` fiber diameters covered, 1..max_h_samples).
 // The stratum holding h0 uses the camera ray itself (h0 is uniform over the pixel); the others
 // are jittered by one per-hit random number, and for each a virtual ray parallel to the camera
-// ray, offset across the yarn, enters the tube and goes through the implicit ply and fiber
-// query (trace_yarn_hit). A ray between the plies passes straight through (pass_fraction).
+// ray, offset across the yarn, enters the tube and goes through the implicit ply query on the
+// yarn straightened at the camera ray's cross-section (trace_plies_local: no curve evaluation)
+// and the fiber maps. A ray between the plies passes straight through (pass_fraction).
 //
 // Aggregation::Mixture (default) keeps each h_k's own frame, shading values and position:
 //   f~(wo, wi) |cos_ref| = sum_k w_k f_k(wo, wi) |cos_k|,   pdf = sum_k w_k pdf_k,

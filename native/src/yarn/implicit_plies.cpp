@@ -1090,7 +1090,327 @@ PlyHit trace_elliptical(const CurveFrames& yarn_frames, const YarnDescription& d
     return h;
 }
 
+// ---- Local method: the yarn straightened, to second order, at the hit ---------------------
+// Near the hit's cross-section (arc length s from it) the centre-line is c + T s + kappa s^2 / 2
+// and the rotation-minimizing frame turns as N(s) = N - (N.kappa) s T (likewise B), so ply i is
+// an analytic helix in s with phase phi_i + rate s: crossings and entries need only sines, no
+// curve evaluation. Exact on straight yarns; on bends the error grows as |kappa|^2 s^3, i.e.
+// with the stretch an oblique ray crosses (docs/implicit-geometry.md has the measurements).
+// cos and sin to ~3e-7 for |a| up to ~1e4 (every query evaluates dozens of phases; libm's
+// sincosf was a quarter of the local method's time): quadrant reduction by pi/2 in two
+// parts, then Taylor polynomials on [-pi/4, pi/4].
+inline void turn_sincos(float a, float& c, float& s) {
+    const float q = std::nearbyint(a * 0.636619772f);
+    const float r = (a - q * 1.57079625f) - q * 7.54978995e-8f;
+    const float r2 = r * r;
+    const float sr = r * (1 + r2 * (-1.0f / 6 + r2 * (1.0f / 120 + r2 * (-1.0f / 5040))));
+    const float cr = 1 + r2 * (-0.5f + r2 * (1.0f / 24 + r2 * (-1.0f / 720 + r2 * (1.0f / 40320))));
+    switch (static_cast<int>(q) & 3) {
+        case 0: c = cr, s = sr; break;
+        case 1: c = -sr, s = cr; break;
+        case 2: c = -cr, s = -sr; break;
+        default: c = sr, s = -cr; break;
+    }
+}
+
+struct LocalHelices {
+    Vec3 c, tangent, kappa, normal, binormal;  // at the hit's cross-section; c relative to the tube entry
+    Vec3 ray;                                  // unit ray direction
+    float nk = 0, bk = 0;                      // N.kappa, B.kappa
+    float offset = 0, ply_radius = 0, rate = 0, phase = 0;  // ply distance (m), radius (m), rad/m, ply 0 at s = 0
+
+    // Ply centre relative to the tube entry (w), its derivatives in s (w1, w2), given the cosine
+    // and sine of the ply's phase at s.
+    void at(float s, float cp, float sp, Vec3& w, Vec3& w1, Vec3* w2) const {
+        const Vec3 out = normal * cp + binormal * sp, around = binormal * cp - normal * sp;
+        const float lean = 1 - offset * (nk * cp + bk * sp), turn = offset * rate * (bk * cp - nk * sp);
+        w = c + kappa * (0.5f * s * s) + out * offset + tangent * (s * lean);
+        w1 = kappa * s + around * (offset * rate) + tangent * (lean - s * turn);
+        if (w2) *w2 = kappa - out * (offset * rate * rate) - tangent * (2 * turn);
+    }
+    // Across-the-ray parts: the ply-plane crossing condition f = w_perp . w1_perp and its slope.
+    float crossing(const Vec3& w, const Vec3& w1, const Vec3* w2 = nullptr, float* slope = nullptr) const {
+        const float wz = dot(w, ray), w1z = dot(w1, ray);
+        if (slope) *slope = dot(w1, w1) - w1z * w1z + dot(w, *w2) - wz * dot(*w2, ray);
+        return dot(w, w1) - wz * w1z;
+    }
+    float miss2(const Vec3& w) const {
+        const float wz = dot(w, ray);
+        return dot(w, w) - wz * wz;
+    }
+    void phase_at(int ply, int plies, float s, float& cp, float& sp) const {
+        turn_sincos(phase + rate * s + 2 * kPi * ply / plies, cp, sp);
+    }
+};
+
+// The crossing in [lo, hi] (f(lo) < 0 <= f(hi)): Newton steps kept inside the bracket.
+float local_crossing(const LocalHelices& m, int ply, int plies, float lo, float hi, float f_lo, float f_hi,
+                     float tolerance) {
+    float s = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+    for (int step = 0; step < 8; ++step) {
+        float cp, sp, slope;
+        Vec3 w, w1, w2;
+        m.phase_at(ply, plies, s, cp, sp);
+        m.at(s, cp, sp, w, w1, &w2);
+        const float f = m.crossing(w, w1, &w2, &slope);
+        if (f < 0) lo = s;
+        else hi = s;
+        float next = slope > 0 ? s - f / slope : 0.5f * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5f * (lo + hi);
+        const bool done = std::fabs(next - s) < tolerance;
+        s = next;
+        if (done) break;
+    }
+    return s;
+}
+
+// Distance from the ray point at `lambda` to ply `ply`'s surface (negative inside), with s
+// moved to the helix point closest to it.
+float local_gap(const LocalHelices& m, int ply, int plies, float lambda, float max_shift, float& s) {
+    const Vec3 x = m.ray * lambda;
+    Vec3 w, w1, w2;
+    for (int step = 0; step < 4; ++step) {
+        float cp, sp;
+        m.phase_at(ply, plies, s, cp, sp);
+        m.at(s, cp, sp, w, w1, &w2);
+        const Vec3 r = w - x;
+        const float slope = dot(w1, w1) + dot(r, w2);
+        const float ds = slope > 0 ? -dot(r, w1) / slope : 0.0f;
+        if (std::fabs(ds) < 1e-5f * max_shift) break;
+        s += clamp(ds, -max_shift, max_shift);
+    }
+    const Vec3 r = x - w, axis = normalize(w1);
+    return length(r - axis * dot(r, axis)) - m.ply_radius;
+}
+
+// Where the ray (from the tube entry) enters ply `ply` near its crossing at s, whose closest
+// approach lies at ray distance `approach`: the entry into the cylinder along the helix there,
+// moved to the helix point closest to that entry. When that does not settle (a ray almost
+// along the ply), regula falsi on the distance to the helix between the tube entry and the
+// approach. False when the ray misses the ply.
+bool local_entry(const LocalHelices& m, int ply, int plies, float tolerance, float max_shift, float approach,
+                 float& s, float& enter) {
+    const float s_crossing = s;
+    for (int step = 0; step < 6; ++step) {
+        float cp, sp, leave;
+        Vec3 w, w1, w2;
+        m.phase_at(ply, plies, s, cp, sp);
+        m.at(s, cp, sp, w, w1, &w2);
+        if (!intersect_cylinder(Vec3(0.0f), m.ray, w, normalize(w1), m.ply_radius, enter, leave)) break;
+        const Vec3 r = w - m.ray * std::max(enter, 0.0f);  // ply centre minus the entry point
+        const float slope = dot(w1, w1) + dot(r, w2);
+        const float ds = slope > 0 ? -dot(r, w1) / slope : 0.0f;
+        if (std::fabs(ds) < tolerance) return true;
+        s += clamp(ds, -max_shift, max_shift);
+    }
+    // Bracket: outside at the tube entry (else the ray starts inside the ply), inside at the approach.
+    float lo = 0, hi = std::max(approach, 0.0f), s_lo = s_crossing, s_hi = s_crossing;
+    float g_lo = local_gap(m, ply, plies, lo, max_shift, s_lo);
+    if (g_lo <= 0) {
+        s = s_lo;
+        enter = 0;
+        return true;
+    }
+    float g_hi = local_gap(m, ply, plies, hi, max_shift, s_hi);
+    if (g_hi > 0) return false;
+    for (int step = 0; step < 30 && hi - lo > tolerance; ++step) {
+        float mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+        if (!(mid > lo + 0.05f * (hi - lo) && mid < hi - 0.05f * (hi - lo))) mid = 0.5f * (lo + hi);
+        float s_mid = g_hi > -g_lo ? s_lo : s_hi;
+        const float g = local_gap(m, ply, plies, mid, max_shift, s_mid);
+        if (g > 0) lo = mid, g_lo = g, s_lo = s_mid;
+        else hi = mid, g_hi = g, s_hi = s_mid;
+    }
+    s = s_hi;
+    enter = hi;
+    return true;
+}
+
+// The yarn's cross-section at s, from the local model (frame to first order, as the helices).
+PlyCut local_cut(const CurveFrames& frames, const CentrelineProjection& at, const LocalHelices& m,
+                 const YarnDescription& d, const YarnTwist& tw, int ply, float s, Vec3 entry) {
+    PlyCut cut;
+    const CurvePoint& c = at.point;
+    cut.g = at.segment + double(at.t) + s / std::max(c.speed, 1e-30f);
+    cut.segment = at.segment;
+    cut.t = at.t;
+    frames.advance(cut.segment, cut.t, s / std::max(c.speed, 1e-30f));
+    cut.yarn = c;
+    cut.yarn.position = entry + m.c + m.tangent * s + m.kappa * (0.5f * s * s);
+    cut.yarn.tangent = normalize(m.tangent + m.kappa * s);
+    cut.yarn.normal = m.normal - m.tangent * (m.nk * s);
+    cut.yarn.binormal = m.binormal - m.tangent * (m.bk * s);
+    cut.yarn.arc_length = c.arc_length + s;
+    const float total = frames.total_length();
+    if (frames.closed() && total > 0) cut.yarn.arc_length -= total * std::floor(cut.yarn.arc_length / total);
+    // The phase continues from the hit (a loop's seam must not jump it): ply_centre takes the
+    // arc length, so give it the unwrapped phase directly.
+    const float phase = m.phase + m.rate * s + 2 * kPi * ply / std::max(1, d.plies());
+    cut.centre = ply_centre(cut.yarn, d, tw, phase, std::cos(phase), std::sin(phase));
+    return cut;
+}
+
+struct LocalNode {
+    float s, f, miss, pace;  // arc length, crossing function, distance from the ray (m), |w1 across the ray|
+};
+
+LocalNode local_node(const LocalHelices& m, int ply, int plies, float s) {
+    float cp, sp;
+    Vec3 w, w1;
+    m.phase_at(ply, plies, s, cp, sp);
+    m.at(s, cp, sp, w, w1, nullptr);
+    const float w1z = dot(w1, m.ray);
+    return {s, m.crossing(w, w1), std::sqrt(std::max(m.miss2(w), 0.0f)),
+            std::sqrt(std::max(dot(w1, w1) - w1z * w1z, 0.0f))};
+}
+
+// Calls visit(s) for every closest approach of ply `ply` to the ray in [s_lo, s_hi] that may
+// be within its radius, and for a stretch end where the ply is within reach moving away
+// (start) or toward the ray (end). The ply's distance to the ray changes by at most
+// `speed_bound` per m of s and its second derivative is at most `bend_bound`: an interval is
+// skipped when the ply cannot come within reach, solved when f changes sign, and split only
+// when f is not provably monotone there (f' = |w1_perp|^2 + w_perp.w2_perp), where a pair of
+// roots could hide between the nodes.
+template <class Visit>
+void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, float s_hi, int steps, float speed_bound,
+                      float bend_bound, float tolerance, const Visit& visit) {
+    const float h = (s_hi - s_lo) / steps, finest = 0.25f * m.ply_radius / speed_bound;
+    LocalNode prev = local_node(m, ply, plies, s_lo);
+    if (prev.f >= 0 && prev.miss <= m.ply_radius) visit(s_lo);
+    for (int k = 1; k <= steps; ++k) {
+        const LocalNode next = local_node(m, ply, plies, k == steps ? s_hi : s_lo + h * k);
+        LocalNode stack[24][2];
+        int depth = 0;
+        stack[depth][0] = prev, stack[depth++][1] = next;
+        while (depth > 0) {
+            const LocalNode a = stack[--depth][0], b = stack[depth][1];
+            const float width = b.s - a.s;
+            if (0.5f * (a.miss + b.miss - speed_bound * width) > m.ply_radius) continue;
+            if (a.f < 0 && b.f >= 0) {
+                visit(local_crossing(m, ply, plies, a.s, b.s, a.f, b.f, 10 * tolerance));  // refined at the entry
+                continue;
+            }
+            const float pace = std::min(a.pace, b.pace) - 0.5f * bend_bound * width;
+            const float far = std::max(a.miss, b.miss) + 0.5f * speed_bound * width;
+            if (pace > 0 && pace * pace > far * bend_bound) continue;  // monotone: no hidden pair
+            if (width < finest || depth + 2 > 24) continue;
+            const LocalNode mid = local_node(m, ply, plies, 0.5f * (a.s + b.s));
+            stack[depth][0] = mid, stack[depth++][1] = b;  // the nearer half is examined first
+            stack[depth][0] = a, stack[depth++][1] = mid;
+        }
+        prev = next;
+    }
+    if (prev.f < 0 && prev.miss <= m.ply_radius) visit(s_hi);
+}
+
+PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
+                   const CentrelineProjection& at, const PlyTraceOptions& options) {
+    const CurvePoint& c = at.point;
+    const float radius = std::max(c.radius, 1e-30f);
+    const Vec3 across = cross(c.tangent, hit.direction);
+    const float across_length = length(across);
+    if (across_length < 1e-4f) return pass_through(frames, hit, at.segment, at.t);
+
+    LocalHelices m;
+    m.c = c.position - hit.point;
+    m.tangent = c.tangent;
+    m.kappa = c.curvature;
+    m.normal = c.normal;
+    m.binormal = c.binormal;
+    m.ray = hit.direction;
+    m.nk = dot(c.normal, c.curvature);
+    m.bk = dot(c.binormal, c.curvature);
+    m.offset = d.ply_distance * radius;
+    m.ply_radius = d.ply_radius * radius;
+    m.rate = tw.ply_rate;
+    m.phase = ply_phase(tw, c.arc_length);
+    const int plies = std::max(1, d.plies());
+
+    // The stretch the ray crosses: the straight tube's chord from the entry (which may lie off
+    // the modelled cross-section along the yarn), widened by how far a ply's cut reaches along
+    // the yarn; clipped to an open yarn's ends.
+    const float along = dot(hit.direction, c.tangent), entry_s = dot(-m.c, c.tangent);
+    const Vec3 w_perp = -m.c - c.tangent * dot(-m.c, c.tangent);
+    const Vec3 d_perp = hit.direction - c.tangent * along;
+    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
+    const float chord = (-b + safe_sqrt(b * b - a * std::min(dot(w_perp, w_perp) - radius * radius, 0.0f))) / a;
+    const float reach = m.ply_radius * (1 + std::fabs(along) / across_length) + 0.05f * radius +
+                        0.1f * chord * std::fabs(along);
+    float s_lo = entry_s + std::min(0.0f, chord * along) - reach;
+    float s_hi = entry_s + std::max(0.0f, chord * along) + reach;
+    if (!frames.closed()) {
+        s_lo = std::max(s_lo, -c.arc_length);
+        s_hi = std::min(s_hi, frames.total_length() - c.arc_length);
+    }
+    if (!(s_hi > s_lo)) return pass_through(frames, hit, at.segment, at.t);
+
+    // Nodes every quarter turn of the plies (at most 64), subdivided where the ply may come
+    // within reach of the ray: a sign change of f brackets a closest approach.
+    const float quarter = 0.5f * kPi / std::max(std::fabs(m.rate), 1e-30f);
+    const int steps = std::min(64, std::max(1, static_cast<int>(std::ceil((s_hi - s_lo) / quarter))));
+    // Bounds over the stretch on |w1| and |w2| across the ray (the ply centre's speed and
+    // acceleration seen along the ray): the yarn's own direction counts only as far as it
+    // crosses the ray, which is little at grazing views.
+    const float kappa = length(c.curvature), s_max = std::max(std::fabs(s_lo), std::fabs(s_hi));
+    const float speed_bound = across_length * (1 + m.offset * kappa) + m.offset * std::fabs(m.rate) +
+                              kappa * s_max * (1 + m.offset * std::fabs(m.rate));
+    const float bend_bound = kappa * (1 + 2 * m.offset * std::fabs(m.rate)) + m.offset * sqr(m.rate);
+    const float tolerance = options.tolerance * radius;
+    // Crossings within a ply radius (N_i counts their plies), then entries in the order of a
+    // lower bound on each (the approach less twice the straight cylinder's half chord and a
+    // ply radius: a margin for the helix's bend) until no remaining one can come first.
+    struct Reach {
+        int ply;
+        float s, approach, earliest;
+    };
+    Reach reached[64];
+    int count = 0;
+    uint32_t crossed = 0;
+    for (int ply = 0; ply < plies && ply < 32; ++ply) {
+        const auto visit = [&](float sc) {
+            float cp, sp;
+            Vec3 w, w1;
+            m.phase_at(ply, plies, sc, cp, sp);
+            m.at(sc, cp, sp, w, w1, nullptr);
+            const float miss2 = m.miss2(w);
+            if (miss2 > sqr(m.ply_radius + kGraze * tolerance) || count == 64) return;
+            crossed |= 1u << ply;
+            const float w1z = dot(w1, m.ray), pace = std::sqrt(std::max(dot(w1, w1) - w1z * w1z, 1e-12f));
+            const float half_chord = std::sqrt(std::max(sqr(m.ply_radius) - miss2, 0.0f)) * length(w1) / pace;
+            const float approach = dot(w, m.ray);
+            int k = count++;
+            for (; k > 0 && reached[k - 1].earliest > approach - 2 * half_chord - m.ply_radius; --k)
+                reached[k] = reached[k - 1];
+            reached[k] = {ply, sc, approach, approach - 2 * half_chord - m.ply_radius};
+        };
+        local_approaches(m, ply, plies, s_lo, s_hi, steps, speed_bound, bend_bound, tolerance, visit);
+    }
+    int best_ply = -1;
+    float best_enter = 1e30f, best_s = 0;
+    for (int k = 0; k < count && reached[k].earliest < best_enter; ++k) {
+        float se = reached[k].s, enter;
+        if (local_entry(m, reached[k].ply, plies, tolerance, s_hi - s_lo, reached[k].approach, se, enter) &&
+            enter < best_enter) {
+            best_enter = enter;
+            best_ply = reached[k].ply;
+            best_s = se;
+        }
+    }
+    if (best_ply < 0) return pass_through(frames, hit, at.segment, at.t);
+    best_enter = std::max(best_enter, 0.0f);
+    Candidate best{best_ply, local_cut(frames, at, m, d, tw, best_ply, best_s, hit.point)};
+    best.enter = best_enter;
+    PlyHit out = finish_hit(best, hit.point + hit.direction * best_enter, tw, hit);
+    out.plies_crossed = __builtin_popcount(crossed);
+    return out;
+}
+
 }  // namespace
+
+PlyHit trace_plies_local(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
+                         const YarnTubeHit& hit, const CentrelineProjection& around, const PlyTraceOptions& options) {
+    return trace_local(frames, d, twist, hit, around, options);
+}
 
 PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
                    const PlyTraceOptions& options) {
@@ -1100,8 +1420,14 @@ PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const Ya
 PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
                    const PlyTraceOptions& options) {
     const CentrelineProjection at = project_to_centreline(frames, hit.point, hit.segment, hit.t);
-    return options.cross_section == PlyCrossSection::circular ? trace_circular(frames, d, tw, hit, at)
-                                                              : trace_elliptical(frames, d, tw, hit, at, options);
+    switch (options.cross_section) {
+        case PlyCrossSection::circular:
+            return trace_circular(frames, d, tw, hit, at);
+        case PlyCrossSection::local:
+            return trace_local(frames, d, tw, hit, at, options);
+        default:
+            return trace_elliptical(frames, d, tw, hit, at, options);
+    }
 }
 
 }  // namespace purl

@@ -68,6 +68,11 @@ YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, con
     return shade(hit, frames, d, yarn_twist(frames, d), maps, curve_key);
 }
 
+YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d,
+                               const YarnTwist& twist, const FiberMaps& maps, uint32_t curve_key) {
+    return shade(hit, frames, d, twist, maps, curve_key);
+}
+
 YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const FiberMaps& maps,
                                 const YarnTubeHit& hit, uint32_t curve_key, const PlyTraceOptions& options) {
     const YarnTwist tw = yarn_twist(frames, d);  // once for both halves of the query

@@ -38,6 +38,9 @@ struct YarnShadingPoint {
 // the migration pattern between yarns.
 YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d,
                                const FiberMaps& maps, uint32_t curve_key);
+// The same with the curve's twist rates at hand (yarn_twist(frames, d)).
+YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d,
+                               const YarnTwist& twist, const FiberMaps& maps, uint32_t curve_key);
 
 // trace_plies followed by shade_ply_hit: the whole implicit query for one yarn-tube hit.
 YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const FiberMaps& maps,

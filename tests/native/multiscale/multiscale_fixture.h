@@ -19,7 +19,15 @@ struct StraightYarn {
     YarnDescription description = default_yarn_description();
     FiberMaps maps{description};
     BysdfParams params = default_bysdf_params();
-    MultiscaleSettings settings = default_multiscale_settings();
+    // Every h sample a footprint allows (the renderer's default caps them at 5): the tests
+    // check the footprint integral itself.
+    MultiscaleSettings settings = all_h_samples();
+
+    static MultiscaleSettings all_h_samples() {
+        MultiscaleSettings s = default_multiscale_settings();
+        s.max_h_samples = float(kMaxHSamples);
+        return s;
+    }
 
     MultiscaleYarn yarn() const { return {&frames, &description, &maps, &params, 7, Vec3(1.0f), {}}; }
 

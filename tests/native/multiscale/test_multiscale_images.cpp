@@ -175,11 +175,11 @@ TEST(MultiscaleImages, SceneSettingsAreReadAndCheckedStrictly) {
                multiscale + "}}";
     };
     const SceneDesc s = parse_scene_text(with(R"({"mode": "far", "aggregation": "aggregate",
-        "multiscale_max_h_samples": 5, "multiscale_footprint_scale": 2})"),
+        "multiscale_max_h_samples": 9, "multiscale_footprint_scale": 2})"),
                                          "ms.json", "", nullptr);
     EXPECT_EQ(s.render.multiscale.mode, MultiscaleMode::Far);
     EXPECT_EQ(s.render.multiscale.aggregation, MultiscaleAggregation::Aggregate);
-    EXPECT_EQ(s.render.multiscale.max_h_samples, 5.0f);
+    EXPECT_EQ(s.render.multiscale.max_h_samples, 9.0f);
     EXPECT_EQ(s.render.multiscale.footprint_scale, 2.0f);
     EXPECT_EQ(s.render.multiscale.roughness_c, default_multiscale_settings().roughness_c);
     const SceneDesc d = parse_scene_text(with("{}"), "ms.json", "", nullptr);

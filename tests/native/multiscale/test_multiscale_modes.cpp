@@ -66,7 +66,10 @@ TEST(MultiscaleModes, ForcedFarWarnsOnceOnYarnsWiderThanAPixel) {
 
 TEST(MultiscaleModes, SampleCountFollowsTheCoveredRange) {
     const YarnDescription d = default_yarn_description();
-    const MultiscaleSettings s = default_multiscale_settings();
+    MultiscaleSettings s = default_multiscale_settings();
+    // The default stops at 5: more h samples cost more than they save (docs/multiscale.md).
+    EXPECT_EQ(h_sample_count(2.0f, d, s), 5);
+    s.max_h_samples = 16;
     const float fiber = fiber_feature_width(d);
     // One per fiber diameter, rounded up to odd (a cell centred on h0), at most 15.
     EXPECT_EQ(h_sample_count(0.0f, d, s), 1);

@@ -268,5 +268,33 @@ TEST(ImplicitPlies, ModelMarginNeverChangesTheResult) {
     }
 }
 
+TEST(ImplicitPlies, LocalMethodAroundANeighbouringCrossSectionMatchesTheExactOne) {
+    // Multi-scale's virtual rays enter the tube up to a few radii along the yarn from the
+    // cross-section they are modelled around; on a straight yarn that must not matter.
+    const StraightYarn y;
+    const YarnDescription d = touching_plies(3);
+    const YarnTwist tw = yarn_twist(y.frames, d);
+    int hits = 0;
+    for (float psi : {0.0f, 0.6f, 1.1f})
+        for (float h : {-0.8f, -0.3f, 0.1f, 0.55f, 0.9f})
+            for (float shift : {-2.0f, 0.0f, 1.5f}) {
+                const YarnTubeHit hit = side_hit(y.frames, h, psi, 20.0f);
+                const CentrelineProjection around =
+                    project_to_centreline(y.frames, hit.point + Vec3(0, 0, shift), hit.segment, hit.t);
+                const PlyHit exact = trace_plies(y.frames, d, tw, hit);
+                const PlyHit local = trace_plies_local(y.frames, d, tw, hit, around);
+                ASSERT_EQ(local.hit, exact.hit) << psi << " " << h << " " << shift;
+                if (!exact.hit) continue;
+                ++hits;
+                EXPECT_EQ(local.ply, exact.ply);
+                EXPECT_EQ(local.plies_crossed, exact.plies_crossed);
+                EXPECT_NEAR(local.distance, exact.distance, 1e-3f);
+                EXPECT_GT(dot(local.tangent, exact.tangent), 0.99999f);
+                EXPECT_GT(dot(local.normal, exact.normal), 0.9999f);
+                EXPECT_NEAR(local.v_yarn, exact.v_yarn, 1e-3f);
+            }
+    EXPECT_GT(hits, 30);
+}
+
 }  // namespace
 }  // namespace purl
