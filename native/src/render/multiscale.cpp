@@ -192,16 +192,11 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
         }
         ++samples_;
         total_length += len;
-        YarnShadingPoint y;
-        if (j == 0) {
-            y = trace_yarn_hit(frames, desc, *yarn.maps, q.tube, yarn.curve_key, yarn.trace);
-        } else if (local) {
-            const PlyHit ply = trace_plies_local(frames, desc, twist, virtual_entry(q, h - h_main), q.axis, yarn.trace);
-            y = shade_ply_hit(ply, frames, desc, twist, *yarn.maps, yarn.curve_key);
-        } else {
-            const YarnTubeHit tube = virtual_hit(frames, q, h - h_main);
-            y = trace_yarn_hit(frames, desc, *yarn.maps, tube, yarn.curve_key, yarn.trace);
-        }
+        const PlyHit ply =
+            j == 0   ? trace_plies(frames, desc, twist, q.tube, yarn.trace)
+            : local  ? trace_plies_local(frames, desc, twist, virtual_entry(q, h - h_main), q.axis, yarn.trace)
+                     : trace_plies(frames, desc, twist, virtual_hit(frames, q, h - h_main), yarn.trace);
+        const YarnShadingPoint y = shade_ply_hit(ply, frames, desc, twist, *yarn.maps, yarn.curve_key);
         if (!y.hit) continue;
         if (j == 0) own_hit = true;
         if (j == 0 || (!own_hit && (nearest < 0 || std::fabs(h - fp.h0) < std::fabs(hit_h[nearest] - fp.h0))))

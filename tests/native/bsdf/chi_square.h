@@ -3,6 +3,7 @@
 // each cell by adaptive quadrature. Cells expecting fewer than `min_expected` samples are
 // pooled; failed samples form their own cell against the pdf's missing mass.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -36,6 +37,23 @@ using DirectionSampler = std::function<std::optional<Vec3>(Vec3 u)>;
 using DirectionDensity = std::function<double(Vec3 w)>;  // solid-angle density, 1/sr
 
 Chi2Result chi2_test(const DirectionSampler& sample, const DirectionDensity& pdf, const Chi2Options& options);
+
+// chi2_test of a model's sample(wo, u_lobe, {u1, u2}) against its pdf(wo, wi); also counts the
+// samples whose record (f, pdf) is not what eval_pdf says at the sampled direction.
+template <class Model>
+Chi2Result chi2_model(const Model& m, Vec3 wo, const Chi2Options& options, int& record_mismatches) {
+    return chi2_test(
+        [&](Vec3 u) -> std::optional<Vec3> {
+            const auto s = m.sample(wo, u.x, {u.y, u.z});
+            if (!s) return std::nullopt;
+            const auto ep = m.eval_pdf(wo, s->wi);
+            if (std::fabs(ep.pdf - s->pdf) > 1e-5f * s->pdf ||
+                std::fabs(average(ep.f) - average(s->f)) > 1e-5f * average(s->f) + 1e-9f)
+                ++record_mismatches;
+            return s->wi;
+        },
+        [&](Vec3 wi) { return double(m.pdf(wo, wi)); }, options);
+}
 
 // Integral of f over the part of the sphere with cos theta in [z0, z1], phi in [phi0, phi1],
 // by adaptive Simpson quadrature in (cos theta, phi), to `tolerance` (absolute).

@@ -171,17 +171,7 @@ TEST(FarField, ChiSquare) {
         o.test_count = static_cast<int>(std::size(cases));
         o.seed = 900 + k;
         int mismatches = 0;
-        const Chi2Result r = chi2_test(
-            [&](Vec3 u) -> std::optional<Vec3> {
-                const auto smp = far.sample(wo, u.x, {u.y, u.z});
-                if (!smp) return std::nullopt;
-                const BsdfEvalPdf ep = far.eval_pdf(wo, smp->wi);
-                if (std::fabs(ep.pdf - smp->pdf) > 1e-5f * smp->pdf ||
-                    std::fabs(average(ep.f) - average(smp->f)) > 1e-5f * average(smp->f) + 1e-9f)
-                    ++mismatches;
-                return smp->wi;
-            },
-            [&](Vec3 wi) { return double(far.pdf(wo, wi)); }, o);
+        const Chi2Result r = chi2_model(far, wo, o, mismatches);
         EXPECT_EQ(mismatches, 0) << k;
         EXPECT_TRUE(r.passed) << k << "\n" << r.message;
         if (!r.passed) ++failures;

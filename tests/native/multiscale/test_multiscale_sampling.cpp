@@ -53,17 +53,7 @@ TEST(MultiscaleSampling, ChiSquareNearMultiFar) {
         o.test_count = static_cast<int>(cases.size());
         o.seed = 500 + k;
         int mismatches = 0;
-        const Chi2Result r = chi2_test(
-            [&](Vec3 u) -> std::optional<Vec3> {
-                const auto smp = m.sample(wo, u.x, {u.y, u.z});
-                if (!smp) return std::nullopt;
-                const BsdfEvalPdf ep = m.eval_pdf(wo, smp->wi);
-                if (std::fabs(ep.pdf - smp->pdf) > 1e-5f * smp->pdf ||
-                    std::fabs(average(ep.f) - average(smp->f)) > 1e-5f * average(smp->f) + 1e-9f)
-                    ++mismatches;
-                return smp->wi;
-            },
-            [&](Vec3 wi) { return double(m.pdf(wo, wi)); }, o);
+        const Chi2Result r = chi2_model(m, wo, o, mismatches);
         EXPECT_EQ(mismatches, 0) << c.name;
         EXPECT_TRUE(r.passed) << c.name << " (" << m.components() << " components)\n" << r.message;
         if (!r.passed) ++failures;
