@@ -9,7 +9,8 @@ them alike. Quality is the relative MSE against the mode's own reference,
     relMSE = mean((I - R)^2) / mean(R)^2     (over pixels and RGB),
 which for a Monte Carlo image falls as v / spp. The reference's own noise adds v / ref_spp, so
     v = relMSE / (1 / spp + 1 / ref_spp),
-and the time to reach a target relMSE e is  T(e) = v x (render seconds per spp) / e.
+and the time to reach a target relMSE e is  T(e) = v x (render seconds per spp) / e, with the
+render's CPU seconds (all threads of this process; --clock wall for wall-clock time).
 Reported: the median over repeats and sample counts of v x seconds-per-spp, T at --target,
 and the ratios of near's T to the others' (> 1: faster than near at equal quality).
 The multi-scale modes converge to a different image than near where a yarn is wider than a
@@ -25,7 +26,7 @@ Modes: near, multi, far, auto, plus far-sampled (multi with a 16-pixel footprint
 far field, traced h samples, at every hit) to compare against the tabulated far field.
 
 Usage: PYTHONPATH=<builddir> python3 bench/multiscale_equal_quality.py [--views far,close]
-       [--modes near,multi,far,auto,far-sampled] [--spp 2,4] [--ref-spp 32] [--repeats 3]
+       [--modes near,multi,far,auto,far-sampled,multi:multiscale_sample_spacing=0.5] [--spp 2,4] [--ref-spp 32] [--repeats 3]
        [--threads 2] [--scale 1] [--json out.json] [--set multiscale_max_h_samples=5 ...]
 """
 import argparse
@@ -49,6 +50,15 @@ MODES = {"near": ("near", {}), "multi": ("multi", {}), "far": ("far", {}), "auto
          "far-sampled": ("multi", {"multiscale_footprint_scale": 16.0})}
 
 
+def mode_spec(label):
+    """(mode, extra settings) of a --modes label: a name of MODES, optionally followed by
+    ':NAME=VALUE' settings of its own (e.g. multi:multiscale_sample_spacing=0.5), so variants of
+    one mode are timed side by side in one run."""
+    name, *settings = label.split(":")
+    mode, extra = MODES[name]
+    return mode, {**extra, **{k: float(v) for k, v in (item.split("=", 1) for item in settings)}}
+
+
 def load_view(view, scale, overrides):
     with open(os.path.join(SCENES, f"glove_{view}.json")) as f:
         scene = json.load(f)
@@ -62,11 +72,13 @@ def load_view(view, scale, overrides):
 
 
 def render(job, spp, seed, threads):
+    cpu = time.process_time()
     job.start(spp=spp, seed=seed, threads=threads)
     job.wait()
     if job.error:
         raise RuntimeError(job.error)
     stats = job.stats()
+    stats["cpu_seconds"] = time.process_time() - cpu  # every thread of this process
     image = np.asarray(job.passes()["Combined"], dtype=np.float64)[:, :, :3]
     return image, stats
 
@@ -76,8 +88,8 @@ def relative_mse(image, reference):
 
 
 def measure_view(view, modes, args):
-    jobs = {m: purlcore.RenderJob(load_view(view, args.scale, {**args.set, **MODES[m][1]}), base_dir=SCENES,
-                                  mode=MODES[m][0]) for m in modes}
+    jobs = {m: purlcore.RenderJob(load_view(view, args.scale, {**args.set, **mode_spec(m)[1]}), base_dir=SCENES,
+                                  mode=mode_spec(m)[0]) for m in modes}
     references, hits = {}, {}
     for m in modes:
         start = time.time()
@@ -94,7 +106,7 @@ def measure_view(view, modes, args):
                 image, stats = render(jobs[m], spp, 1 + r * 100 + spp, args.threads)
                 e = relative_mse(image, references[m])
                 v = e / (1.0 / spp + 1.0 / args.ref_spp)
-                per_spp = stats["render_seconds"] / spp
+                per_spp = stats["cpu_seconds" if args.clock == "cpu" else "render_seconds"] / spp
                 samples[m].append(v * per_spp)
                 seconds[m].append(per_spp)
                 relmse[m][spp].append(e)
@@ -126,7 +138,7 @@ def measure_view(view, modes, args):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--views", default="far,close")
-    ap.add_argument("--modes", default="near,multi,far,auto,far-sampled", help=f"of {', '.join(MODES)}; near first")
+    ap.add_argument("--modes", default="near,multi,far,auto,far-sampled", help=f"of {', '.join(MODES)}, each optionally with :NAME=VALUE settings of its own; near first")
     ap.add_argument("--spp", default="2,4", help="sample counts of the timed renders")
     ap.add_argument("--ref-spp", type=int, default=32)
     ap.add_argument("--repeats", type=int, default=3)
@@ -135,6 +147,9 @@ def main():
     ap.add_argument("--target", type=float, default=0.01, help="relMSE whose time is reported")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="a render.multiscale parameter for every mode, e.g. multiscale_max_h_samples=5")
+    ap.add_argument("--clock", choices=("cpu", "wall"), default="cpu",
+                    help="the cost of a render: CPU seconds of this process (steadier on a shared machine) "
+                         "or wall-clock seconds")
     ap.add_argument("--json", default="", help="also write the results here")
     args = ap.parse_args()
     args.spp = [int(s) for s in args.spp.split(",")]
@@ -144,7 +159,7 @@ def main():
     for view in args.views.split(","):
         results[view] = measure_view(view, args.modes.split(","), args)
     print(f"\nglove, film {64 * args.scale:.0f} x {80 * args.scale:.0f}, references {args.ref_spp} spp, "
-          f"timed at {args.spp} spp x {args.repeats} repeats, {args.threads} threads, "
+          f"timed at {args.spp} spp x {args.repeats} repeats, {args.threads} threads, {args.clock} time, "
           f"{time.time() - start:.0f} s in all" + (f", multiscale {args.set}" if args.set else ""))
     print(f"| view | mode | s per spp | mean h samples | relMSE at {args.spp[0]} / {args.spp[-1]} spp | "
           f"time to relMSE {args.target} (s) | speed-up vs near | mean vs near | relMSE vs near (noise part) | "
