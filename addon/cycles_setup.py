@@ -320,6 +320,10 @@ def setup_objects(context, objects, structure=None):
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.shading_system = True
+    # The shader models a round tube: P on it and N its normal, at P's own cross-section. Ribbons
+    # (the default) put P on a flat strip through the centre-line, about a yarn radius deeper
+    # along the view ray, so the plies and fibers were looked up at the wrong cross-section.
+    scene.cycles_curves.shape = "THICK"
     done, skipped, materials = [], [], []
     bases = curve_key_bases(context)
     for ob in objects:

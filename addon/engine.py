@@ -23,6 +23,8 @@ PASSES = [
     ("Depth", 1, "Z", "VALUE"),
     ("Normal", 3, "XYZ", "VECTOR"),
     ("YarnID", 1, "X", "VALUE"),
+    ("PlyIndex", 1, "X", "VALUE"),
+    ("PlyUV", 2, "UV", "VECTOR"),
 ]
 
 

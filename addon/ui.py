@@ -47,6 +47,7 @@ class PURL_PT_render(PurlPanel, bpy.types.Panel):
         layout.prop(settings, "max_depth")
         layout.prop(settings, "clamp")
         layout.prop(settings, "multiscale_mode")
+        layout.prop(settings, "ply_method")
         layout.prop(context.scene.render, "film_transparent")
         layout.prop(settings, "use_cycles_composite")
         if settings.use_cycles_composite:

@@ -47,7 +47,8 @@ def render_settings(scene):
     return {"spp": int(settings.samples), "seed": int(seed) % 2147483647,
             "max_depth": int(settings.max_depth), "threads": int(threads),
             "clamp": float(settings.clamp),
-            "multiscale": {"mode": settings.multiscale_mode.lower()}}
+            "multiscale": {"mode": settings.multiscale_mode.lower()},
+            "ply_method": settings.ply_method.lower()}
 
 
 def _guarded(problems, ob, export, *args):

@@ -78,7 +78,7 @@ void print_stats(const RenderStats& s) {
 
 int run_render(const std::string& scene_path, const std::string& output, const std::string& png,
                int spp, int threads, long long seed, const std::string& model, bool stats,
-               const std::string& integrator, const std::string& multiscale_mode) {
+               const std::string& integrator, const std::string& multiscale_mode, const std::string& ply_method) {
     const std::string ext = lowercase_extension(output);
     if (ext != ".exr" && ext != ".png")
         throw InputError(output, "", "output must end in .exr or .png");
@@ -89,6 +89,7 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (!model.empty()) scene.render.model = parse_yarn_model(model, "--model");
     if (!multiscale_mode.empty()) scene.render.multiscale.mode = *parse_multiscale_mode(multiscale_mode);
     if (!integrator.empty()) scene.render.trace_only = integrator == "trace";
+    if (!ply_method.empty()) scene.render.ply_method = parse_ply_method(ply_method, "--ply-method");
 
     Renderer renderer(std::move(scene));
     RenderControl control;
@@ -192,6 +193,11 @@ int main(int argc, char** argv) {
                        "multi-scale shading of camera hits on BYSDF yarns: near, multi, far or auto "
                        "(overrides the scene; docs/multiscale.md)")
         ->check(CLI::IsMember({"near", "multi", "far", "auto"}));
+    std::string ply_method;
+    render->add_option("--ply-method", ply_method,
+                       "how BYSDF yarns find the ply under a hit: elliptical (exact), local (faster, exact on "
+                       "straight yarns) or circular (comparison only); overrides the scene")
+        ->check(CLI::IsMember({"elliptical", "local", "circular"}));
 
     std::string info_path;
     CLI::App* info = app.add_subcommand("info", "Describe a BCC curve file");
@@ -244,7 +250,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (*render) return run_render(scene_path, output, png, spp, threads, seed, model, stats, integrator,
-                                       multiscale_mode);
+                                       multiscale_mode, ply_method);
         if (*info) return run_info(info_path);
         if (*fit) return run_fit_command(fit_command);
         if (*export_explicit) return run_export_explicit(export_scene, export_model, export_output, export_radii);

@@ -10,6 +10,7 @@ import numpy as np
 from mathutils import Vector
 
 from builders import compat
+from exr import read_channels
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FIG7 = os.path.join(REPO, "scenes", "fig7")
@@ -70,11 +71,14 @@ def build_blender_scene(scene, core, json_scene, samples):
     scene.collection.objects.link(cam_ob)
     _place(cam_ob, camera["position"], camera["look_at"])
     scene.camera = cam_ob
+    # Purl's area light has radiance P / (4 A), Cycles 4.x's P / (pi A): the add-on's export
+    # factor, undone, so both renderers get the same light.
+    area_power_factor = import_module(os.environ["PURL_ADDON_PACKAGE"] + ".export.lights").AREA_POWER_FACTOR
     for i, light in enumerate(json_scene["lights"]):
         data = bpy.data.lights.new("Light{}".format(i), "AREA")
         data.shape = light.get("shape", "SQUARE")
         data.size = light["size"]
-        data.energy = light["power"]
+        data.energy = light["power"] / area_power_factor
         data.color = light.get("color", (1, 1, 1))
         ob = bpy.data.objects.new(data.name, data)
         scene.collection.objects.link(ob)
@@ -142,16 +146,55 @@ def native_scene(json_scene, curves_points, spp):
     return scene, arrays
 
 
-def render_cycles(scene, path):
-    """Renders with Cycles to an EXR and returns linear RGBA, rows top to bottom."""
-    scene.render.filepath = path
-    compat.set_image_format(scene.render.image_settings, "OPEN_EXR")
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(path)
+def render_shader_outputs(scene, yarn_object, outputs, path, offset=0.0):
+    """Renders up to three float outputs of the yarn's Purl Script node as an emission colour
+    (plus `offset`, as emission must not be negative), 1 spp; returns (values (H, W, len(outputs)),
+    alpha (H, W)), rows top to bottom. Cycles' OSL backend does not write shader AOVs (its AOV
+    output node is not compiled for OSL), hence this detour. The material is restored after."""
+    from importlib import import_module
+    script_name = import_module(os.environ["PURL_ADDON_PACKAGE"] + ".cycles_setup").SCRIPT_NODE_NAME
+    restore = []
+    for material in yarn_object.data.materials:
+        tree = material.node_tree
+        script = tree.nodes[script_name]
+        output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        combine = tree.nodes.new("ShaderNodeCombineXYZ")
+        emission = tree.nodes.new("ShaderNodeEmission")
+        for name, socket in zip(outputs, combine.inputs):
+            add = tree.nodes.new("ShaderNodeMath")
+            add.inputs[1].default_value = offset
+            tree.links.new(script.outputs[name], add.inputs[0])
+            tree.links.new(add.outputs[0], socket)
+        tree.links.new(combine.outputs[0], emission.inputs["Color"])
+        tree.links.new(emission.outputs[0], output.inputs["Surface"])
+        restore.append((tree, script, output, [n for n in tree.nodes if n.bl_idname in
+                                                ("ShaderNodeCombineXYZ", "ShaderNodeEmission", "ShaderNodeMath")]))
+    samples = scene.cycles.samples
+    scene.cycles.samples = 1
     try:
-        width, height = image.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
+        rgba = render_cycles(scene, path)["Combined"]
     finally:
-        bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)[::-1]
+        scene.cycles.samples = samples
+        for tree, script, output, added in restore:
+            for node in added:
+                tree.nodes.remove(node)
+            tree.links.new(script.outputs["BSDF"], output.inputs["Surface"])
+    return rgba[..., :len(outputs)] - offset, rgba[..., 3]
+
+
+def render_cycles(scene, path):
+    """Renders with Cycles to an uncompressed multilayer EXR; returns {pass: (H, W, C) float32},
+    rows top to bottom: "Combined" (linear RGBA) and any AOVs."""
+    scene.render.filepath = path
+    compat.set_multilayer_exr(scene.render.image_settings)
+    scene.render.image_settings.exr_codec = "NONE"  # the add-on's reader reads uncompressed files only
+    bpy.ops.render.render(write_still=True)
+    prefix = scene.view_layers[0].name + "."
+    planes = read_channels(path)
+    passes = {}
+    for channel in sorted(planes):
+        if channel.startswith(prefix):
+            passes.setdefault(channel[len(prefix):].rsplit(".", 1)[0], []).append(channel)
+    result = {name: np.stack([planes[c] for c in channels], axis=-1) for name, channels in passes.items()}
+    result["Combined"] = np.stack([planes[prefix + "Combined." + c] for c in "RGBA"], axis=-1)
+    return result

@@ -128,6 +128,15 @@ def test_render_settings_carry_the_multiscale_mode(purl, core, scene):
     assert render["multiscale"]["mode"] == "far" and render["multiscale"]["mode"] in core.multiscale_modes()
 
 
+def test_render_settings_carry_the_ply_method(purl, core, scene):
+    add_plane(scene)
+    assert export(purl).scene["render"]["ply_method"] == "elliptical"  # the default
+    items = [item.identifier for item in scene.purl.bl_rna.properties["ply_method"].enum_items]
+    assert [i.lower() for i in items] == core.ply_methods()
+    scene.purl.ply_method = "LOCAL"
+    assert export(purl).scene["render"]["ply_method"] == "local"
+
+
 # --- lights --------------------------------------------------------------------------------
 
 def test_lights_carry_cycles_values(purl, scene):

@@ -30,7 +30,7 @@ def test_render_produces_an_image_with_all_passes(core, scene, tmp_path):
     assert bpy.ops.render.render() == {"FINISHED"}
     channels = save_render_result(scene, tmp_path / "result.exr")
     for name in ("Combined.R", "Combined.G", "Combined.B", "Combined.A", "Depth.Z",
-                 "Normal.X", "Normal.Y", "Normal.Z", "YarnID.X"):
+                 "Normal.X", "Normal.Y", "Normal.Z", "YarnID.X", "PlyIndex.X", "PlyUV.U", "PlyUV.V"):
         assert "{}.{}".format(LAYER, name) in channels, sorted(channels)
     alpha = channels[LAYER + ".Combined.A"]
     red = channels[LAYER + ".Combined.R"]
@@ -44,6 +44,7 @@ def test_render_produces_an_image_with_all_passes(core, scene, tmp_path):
     assert np.median(depth[hit]) == pytest.approx(4.0, abs=0.3)
     normal_length = np.sqrt(sum(channels[LAYER + ".Normal." + c] ** 2 for c in "XYZ"))
     assert np.median(normal_length[hit]) == pytest.approx(1.0, abs=0.05)
+    assert np.all(channels[LAYER + ".PlyIndex.X"][~hit] == -1), "no ply where no yarn"
 
 
 def test_passes_show_in_the_compositor(core, scene):
@@ -56,7 +57,7 @@ def test_passes_show_in_the_compositor(core, scene):
         scene.use_nodes = True
         node = next(n for n in scene.node_tree.nodes if n.bl_idname == "CompositorNodeRLayers")
     enabled = {socket.name for socket in node.outputs if socket.enabled}
-    assert {"Image", "Alpha", "Depth", "Normal", "YarnID"} <= enabled
+    assert {"Image", "Alpha", "Depth", "Normal", "YarnID", "PlyIndex", "PlyUV"} <= enabled
 
 
 def test_bad_objects_are_reported_and_the_rest_renders(purl, core, scene, tmp_path):

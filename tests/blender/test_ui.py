@@ -73,7 +73,7 @@ def test_light_panel_draws_each_type(ui, scene, kind):
 
 def test_render_and_world_panels_draw(ui, scene):
     context = SimpleNamespace(engine="PURL", scene=scene)
-    assert {"samples", "multiscale_mode"} <= set(draw(ui.PURL_PT_render, context))
+    assert {"samples", "multiscale_mode", "ply_method"} <= set(draw(ui.PURL_PT_render, context))
     compat.enable_nodes(scene.world)
     assert "default_value" in draw(ui.PURL_PT_world, context)
 

@@ -40,12 +40,14 @@ def scene(width=24, height=16, spp=4, **extra):
 
 def test_render_returns_all_passes_with_yarn_pixels():
     passes = purlcore.render(scene(), {"knit": yarn_arrays()})
-    assert set(passes) == {"Combined", "Depth", "Normal", "YarnID"}
+    assert set(passes) == {"Combined", "Depth", "Normal", "YarnID", "PlyIndex", "PlyUV"}
     assert passes["Combined"].shape == (16, 24, 4)
     assert passes["Depth"].shape == (16, 24, 1)
+    assert passes["PlyUV"].shape == (16, 24, 2)
     ids = passes["YarnID"][..., 0]
     assert (ids > 0).sum() > 20, "the yarns should cover part of the image"
     assert set(np.unique(ids)) <= {0.0, 1.0, 2.0, 3.0}
+    assert np.all(passes["PlyIndex"][ids == 0] == -1), "no ply where no yarn"
     yarn = passes["Combined"][ids > 0]
     assert np.all(np.isfinite(yarn)) and yarn[:, 0].mean() > yarn[:, 2].mean(), "red yarn"
 
@@ -123,7 +125,8 @@ def test_write_multilayer_exr_with_blender_channel_names(tmp_path):
     if shutil.which("oiiotool"):
         info = subprocess.run(["oiiotool", "--info", "-v", str(exr)], capture_output=True, text=True).stdout
         for channel in ("ViewLayer.Combined.R", "ViewLayer.Combined.A", "ViewLayer.Depth.Z",
-                        "ViewLayer.Normal.X", "ViewLayer.YarnID.X"):
+                        "ViewLayer.Normal.X", "ViewLayer.YarnID.X", "ViewLayer.PlyIndex.X",
+                        "ViewLayer.PlyUV.U", "ViewLayer.PlyUV.V"):
             assert channel in info
 
 

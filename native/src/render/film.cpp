@@ -11,6 +11,8 @@ RenderImage Film::to_image() const {
     ImagePass depth{"Depth", {"Z"}, std::vector<float>(n)};
     ImagePass normal{"Normal", {"X", "Y", "Z"}, std::vector<float>(n * 3)};
     ImagePass yarn_id{"YarnID", {"X"}, std::vector<float>(n)};
+    ImagePass ply_index{"PlyIndex", {"X"}, std::vector<float>(n)};
+    ImagePass ply_uv{"PlyUV", {"U", "V"}, std::vector<float>(n * 2)};
     for (size_t i = 0; i < n; ++i) {
         const PixelResult& p = pixels_[i];
         combined.pixels[4 * i] = p.color.x;
@@ -22,8 +24,12 @@ RenderImage Film::to_image() const {
         normal.pixels[3 * i + 1] = p.normal.y;
         normal.pixels[3 * i + 2] = p.normal.z;
         yarn_id.pixels[i] = p.yarn_id;
+        ply_index.pixels[i] = p.ply_index;
+        ply_uv.pixels[2 * i] = p.u_ply;
+        ply_uv.pixels[2 * i + 1] = p.v_ply;
     }
-    image.passes = {std::move(combined), std::move(depth), std::move(normal), std::move(yarn_id)};
+    image.passes = {std::move(combined), std::move(depth),     std::move(normal),
+                    std::move(yarn_id),  std::move(ply_index), std::move(ply_uv)};
     return image;
 }
 

@@ -15,6 +15,11 @@ struct PixelResult {
     float depth = kNoHitDepth;  // camera-axis distance of the nearest first hit
     Vec3 normal;       // mean world normal of first hits
     float yarn_id = 0; // 1 + global curve id of the first hit of sample 0; 0 when none
+    // Sample 0's first scattering ply (after passing between plies): index, -1 when none (no
+    // yarn, a mesh, a placeholder or fiber yarn, far-field shading); u_ply (rad) and v_ply (m
+    // along the ply from the root), 0 when none.
+    float ply_index = -1;
+    float u_ply = 0, v_ply = 0;
 };
 
 class Film {
@@ -25,7 +30,8 @@ public:
     PixelResult& at(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
     const PixelResult& at(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
 
-    // Combined (RGBA), Depth (Z), Normal (XYZ), YarnID (X), rows top to bottom.
+    // Combined (RGBA), Depth (Z), Normal (XYZ), YarnID (X), PlyIndex (X), PlyUV (U, V), rows top
+    // to bottom.
     RenderImage to_image() const;
 
 private:

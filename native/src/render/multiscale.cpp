@@ -217,6 +217,9 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     position_ = rep.position;
     segment_ = rep.segment;
     t_ = rep.t;
+    ply_ = rep.ply_index;
+    u_ply_ = rep.u_ply;
+    v_ply_ = rep.v_ply;
 
     // Aggregated frame and shading values (eqs. 9-11). The BYSDF is two-sided and symmetric
     // in its tangent's sign, so normals face the viewer and tangents follow the yarn first.

@@ -128,6 +128,10 @@ public:
     const Frame& frame() const { return frame_; }
     Vec3 position() const { return position_; }  // m, the camera ray's ply hit (else the hit nearest h0): rays leave here
     uint32_t segment() const { return segment_; }  // centre-line parameter of position()
+    // The ply hit position() lies on (-1 when empty()): index, u_ply (rad), v_ply (m).
+    int ply() const { return ply_; }
+    float u_ply() const { return u_ply_; }
+    float v_ply() const { return v_ply_; }
     float t() const { return t_; }
 
     // Local (reference-frame) directions, pointing away. f~ (1/sr) such that f~ |wi.z| is the
@@ -161,6 +165,8 @@ private:
     Vec3 position_, axis_tangent_;  // axis_tangent_: the yarn tangent in local coordinates
     uint32_t segment_ = 0;
     float t_ = 0;
+    int ply_ = -1;
+    float u_ply_ = 0, v_ply_ = 0;
     float pass_fraction_ = 0;
     const CurveFrames* frames_ = nullptr;  // for pass_distance: the tube entry and its parameter
     YarnTubeHit entry_;

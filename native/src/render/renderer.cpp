@@ -233,6 +233,13 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
                 continue;
             }
             ++totals.interactions;
+            if (s == 0 && depth == 0) {
+                out.ply_index = float(si.ply_index);
+                if (si.ply_index >= 0) {
+                    out.u_ply = si.u_ply;
+                    out.v_ply = si.v_ply;
+                }
+            }
             const ShadingPoint& sp = si.point;
             const Vec3 wo = -ray.direction;
             if (sp.holdout) {  // cut out of the image, and black to everything else

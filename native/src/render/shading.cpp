@@ -83,6 +83,7 @@ void SurfaceShader::recolor_bysdf(const BysdfParams& material, const std::vector
 }
 
 SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
+    ply_trace_.cross_section = scene.render.ply_method;
     uint32_t key = 0;
     for (const YarnSetDesc& set : scene.yarns) {
         curve_key_base_.push_back(key);
@@ -165,7 +166,7 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
         return out;
     }
     if (m.model == "ply") {
-        shade_ply(hit, ray, yarn_sets_[hit.object], m, sp);
+        shade_ply(hit, ray, yarn_sets_[hit.object], m, out);
         return out;
     }
     if (m.model == "fiber") {
@@ -181,7 +182,8 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
         out.h_samples = 1;  // near unless the selector says otherwise
         if (shade_multiscale(hit, ray, *multiscale, tube_hit, out)) return out;
     }
-    const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, *data.maps, tube_hit, curve_key_base_[hit.object] + hit.curve);
+    const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, *data.maps, tube_hit, curve_key_base_[hit.object] + hit.curve,
+                                              ply_trace_);
     if (!y.hit) {
         out.pass_through = true;
         out.continue_distance = y.exit_distance;
@@ -199,6 +201,9 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
     bp.plies_crossed = std::max(1, y.plies_crossed);
     bp.ply_index = y.ply_index;
     sp.bsdf = Bysdf(data.bysdf(m, hit.curve), bp);
+    out.ply_index = y.ply_index;
+    out.u_ply = y.u_ply;
+    out.v_ply = y.v_ply;
     return out;
 }
 
@@ -223,7 +228,7 @@ bool SurfaceShader::shade_multiscale(const SurfaceHit& hit, const Ray& ray, cons
         }
     }
     const MultiscaleYarn yarn{&frames, &m.yarn, data.maps.get(), &data.bysdf(m, hit.curve),
-                              curve_key_base_[hit.object] + hit.curve, Vec3(1.0f), {}};
+                              curve_key_base_[hit.object] + hit.curve, Vec3(1.0f), ply_trace_};
     MultiscaleBysdf model(yarn, ms, q);
     out.multiscale_mode = model.mode();  // near when the footprint turned out empty
     out.h_samples = model.samples();
@@ -240,6 +245,9 @@ bool SurfaceShader::shade_multiscale(const SurfaceHit& hit, const Ray& ray, cons
     sp.segment = model.segment();
     sp.t = model.t();
     sp.yarn_radius = hit.radius;
+    out.ply_index = model.ply();
+    out.u_ply = model.u_ply();
+    out.v_ply = model.v_ply();
     sp.bsdf = std::move(model);
     return true;
 }
@@ -271,7 +279,7 @@ void SurfaceShader::shade_far(const SurfaceHit& hit, const Ray& ray, const Multi
 }
 
 void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,
-                              ShadingPoint& sp) const {
+                              SurfaceInteraction& out) const {
     // The ply centre-line point under the hit and the ply normal there.
     const CurveFrames& ply = data.frames[hit.curve];
     const CentrelineProjection c = project_to_centreline(ply, hit.position, hit.segment, hit.u);
@@ -313,7 +321,11 @@ void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnS
     h.segment = yarn_param.segment;
     h.t = yarn_param.t;
     const YarnShadingPoint y = shade_ply_hit(h, yarn_frames, m.yarn, *data.maps, m.ply.key_base + o.yarn_curve);
+    out.ply_index = o.ply;
+    out.u_ply = h.u_ply;
+    out.v_ply = h.v_ply;
 
+    ShadingPoint& sp = out.point;
     sp.position = hit.position;
     sp.frame = Frame::from_normal_tangent(y.fiber_normal, y.fiber_tangent);
     sp.tube = &ply;  // rays leave through this ply's tube; other plies are traced

@@ -77,6 +77,10 @@ struct SurfaceInteraction {
     bool multiscale_hit = false;
     MultiscaleMode multiscale_mode = MultiscaleMode::Near;
     int h_samples = 0;
+    // The ply hit (BYSDF yarns in near and multi mode: the ray's own ply hit, else the h sample
+    // nearest it; explicit "ply" yarns; -1 otherwise), for the PlyIndex and PlyUV passes.
+    int ply_index = -1;
+    float u_ply = 0, v_ply = 0;  // rad, m
 };
 
 // Per-scene shading data built once: curve frames and fiber maps for BYSDF yarn sets.
@@ -106,7 +110,7 @@ private:
         }
     };
     void shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnSetData& data, const MaterialDesc& m,
-                   ShadingPoint& sp) const;
+                   SurfaceInteraction& out) const;
     // A camera hit on a BYSDF yarn in multi or far mode (false: shade it near).
     bool shade_multiscale(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
                           const YarnTubeHit& tube_hit, SurfaceInteraction& out) const;
@@ -118,6 +122,7 @@ private:
     const SceneDesc& scene_;
     std::vector<YarnSetData> yarn_sets_;
     std::vector<uint32_t> curve_key_base_;
+    PlyTraceOptions ply_trace_;  // render.ply_method
 };
 
 // Distance to move a new ray's origin off the surface it leaves: float precision of the

@@ -11,6 +11,7 @@
 #include "scene/curves.h"
 #include "scene/explicit_options.h"
 #include "scene/multiscale_settings.h"
+#include "yarn/implicit_plies.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {
@@ -46,6 +47,9 @@ struct RenderSettings {
     YarnModel model = YarnModel::Bysdf;
     MultiscaleSettings multiscale = default_multiscale_settings();  // camera hits on BYSDF yarns
     ExplicitOptions explicit_options;  // the ply and fiber models' sampling and memory budget
+    // How the BYSDF finds the ply under a tube hit: elliptical (exact, default), local (the
+    // yarn straightened at the hit: faster, exact only on straight yarns), circular (comparison).
+    PlyCrossSection ply_method = PlyCrossSection::elliptical;
     // Benchmark baseline (bench/): true traces camera rays only and shades every first hit a
     // constant grey, to measure traversal alone (no implicit plies, lights or bounces).
     bool trace_only = false;

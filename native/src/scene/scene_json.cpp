@@ -72,6 +72,7 @@ void read_render(JsonObject o, RenderSettings& r) {
     if (o.has("multiscale")) read_multiscale(o.object("multiscale"), r.multiscale);
     if (o.has("explicit")) read_explicit_options(o.object("explicit"), r.explicit_options);
     r.trace_only = o.choice("integrator", "path", {"path", "trace"}) == "trace";
+    r.ply_method = parse_ply_method(o.choice("ply_method", "elliptical", {"elliptical", "local", "circular"}), o.file());
     o.finish();
 }
 
@@ -308,6 +309,13 @@ YarnModel parse_yarn_model(const std::string& name, const std::string& source) {
     if (name == "ply") return YarnModel::Ply;
     if (name == "fiber") return YarnModel::Fiber;
     throw InputError(source, "model", "must be bysdf, ply or fiber, got \"" + name + "\"");
+}
+
+PlyCrossSection parse_ply_method(const std::string& name, const std::string& source) {
+    if (name == "elliptical") return PlyCrossSection::elliptical;
+    if (name == "local") return PlyCrossSection::local;
+    if (name == "circular") return PlyCrossSection::circular;
+    throw InputError(source, "ply_method", "must be elliptical, local or circular, got \"" + name + "\"");
 }
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,

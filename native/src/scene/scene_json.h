@@ -17,6 +17,8 @@ struct ExternalArrays {
 SceneDesc parse_view_text(const std::string& text, const std::string& source);
 
 YarnModel parse_yarn_model(const std::string& name, const std::string& source);
+// render.ply_method: "elliptical", "local" or "circular".
+PlyCrossSection parse_ply_method(const std::string& name, const std::string& source);
 
 SceneDesc load_scene_file(const std::string& path);
 // `source` names the scene in messages; relative paths resolve against `base_dir`.

@@ -125,6 +125,18 @@ TEST(SceneJson, ReadsObjFilesRelativeToTheScene) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(SceneJson, ReadsThePlyMethod) {
+    EXPECT_EQ(parse_scene_text(scene_with(kCamera), "s.json", "").render.ply_method, PlyCrossSection::elliptical);
+    for (const auto& [name, method] : {std::pair{"elliptical", PlyCrossSection::elliptical},
+                                       std::pair{"local", PlyCrossSection::local},
+                                       std::pair{"circular", PlyCrossSection::circular}}) {
+        const std::string render = std::string(R"("render": {"ply_method": ")") + name + R"("})";
+        EXPECT_EQ(parse_scene_text(scene_with(kCamera, render), "s.json", "").render.ply_method, method) << name;
+    }
+    EXPECT_NE(error_of(scene_with(kCamera, R"("render": {"ply_method": "exact"})")).find("render.ply_method"),
+              std::string::npos);
+}
+
 TEST(SceneJson, ReadsTheExplicitModelsOptions) {
     const SceneDesc defaults = parse_scene_text(scene_with(kCamera), "s.json", "");
     EXPECT_EQ(defaults.render.model, YarnModel::Bysdf);
