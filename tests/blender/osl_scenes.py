@@ -71,8 +71,8 @@ def build_blender_scene(scene, core, json_scene, samples):
     scene.collection.objects.link(cam_ob)
     _place(cam_ob, camera["position"], camera["look_at"])
     scene.camera = cam_ob
-    # Purl's area light has radiance P / (4 A), Cycles 4.x's P / (pi A): the add-on's export
-    # factor, undone, so both renderers get the same light.
+    # Purl's area light has radiance P / (4 A), Cycles 4.x's P / (pi A) (3.x's as Purl's): undo
+    # the add-on's export factor, so both renderers get the same light.
     area_power_factor = import_module(os.environ["PURL_ADDON_PACKAGE"] + ".export.lights").AREA_POWER_FACTOR
     for i, light in enumerate(json_scene["lights"]):
         data = bpy.data.lights.new("Light{}".format(i), "AREA")
