@@ -2,6 +2,7 @@
 // with a per-point radius, curves stored back to back.
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -55,9 +56,11 @@ struct YarnCurves {
         finish_curve(is_closed, id);
     }
 
-    // Appends one converted curve: a chain stays a chain, segments stay segments.
+    // Appends one converted curve: a chain stays a chain, segments stay segments. A closed
+    // chain ends with its first three points again; a closed curve of segments that happens to
+    // look like a chain (one Bezier segment: 4 points at 0) does not, and stays segments.
     void add(const BSplineSegments& converted, bool is_closed, int32_t id = -1) {
-        if (converted.is_chain()) {
+        if (converted.is_chain() && (!is_closed || wraps_around(converted.points))) {
             // add_curve wraps closed loops itself, so hand it the points before wrapping.
             const size_t n = converted.points.size() - (is_closed ? 3 : 0);
             add_curve(converted.points.data(), n, is_closed, id);
@@ -67,6 +70,10 @@ struct YarnCurves {
     }
 
 private:
+    static bool wraps_around(const std::vector<Vec4>& points) {
+        const size_t n = points.size();
+        return n >= 6 && std::memcmp(&points[n - 3], &points[0], 3 * sizeof(Vec4)) == 0;
+    }
     void finish_curve(bool is_closed, int32_t id) {
         curve_offsets.push_back(static_cast<uint32_t>(control_points.size()));
         segment_offsets.push_back(static_cast<uint32_t>(segment_first.size()));

@@ -143,6 +143,17 @@ TEST_F(BccTest, BSplinePolylineAndBezierLoad) {
         for (float t : {0.0f, 0.6f, 1.0f}) EXPECT_LT(dist(eval_segment(y, 0, 1, t), eval_bezier(bz, t)), 1e-5f);
         EXPECT_LT(dist(eval_segment(y, 1, 1, 1), point4(d, 0, 1)), 1e-5f);
     }
+    {
+        // A closed Bezier of one segment (3 points) converts to 4 control points at 0, which
+        // look like a chain but are not wrapped: it must stay one segment (found by fuzzing).
+        const std::vector<float> e = {0, 0, 0, 1, 0, 0, 1, 1, 0};
+        const YarnCurves y = load_bcc(put("bz1.bcc", raw_bcc("BZ", 1, {{-3, e}})), 1.0f);
+        ASSERT_EQ(y.curve_count(), 1u);
+        EXPECT_EQ(y.segment_count(0), 1u);
+        EXPECT_EQ(y.point_count(), 4u);
+        EXPECT_NO_THROW(validate_curves(y, "bz1.bcc"));
+        EXPECT_LT(dist(eval_segment(y, 0, 0, 1), point4(e, 0, 1)), 1e-5f);  // closes on p0
+    }
 }
 
 TEST_F(BccTest, YUpBecomesZUpByAProperRotation) {
