@@ -6,4 +6,4 @@ bash scripts/setup.sh
 bash scripts/build.sh
 mkdir -p out
 build/purl render scenes/demo_knit.json -o out/demo.exr --png out/demo.png --stats
-echo "demo: out/demo.png (sRGB) and out/demo.exr (multilayer: Combined, Depth, Normal, YarnID): a stockinette swatch with 3-ply BYSDF yarns"
+echo "demo: out/demo.png (sRGB) and out/demo.exr (multilayer: Combined, Depth, Normal, YarnID, PlyIndex, PlyUV): a stockinette swatch with 3-ply BYSDF yarns"
