@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
     render->add_option("--ply-method", ply_method,
                        "how BYSDF yarns find the ply under a hit: elliptical (exact), local (faster, exact on "
                        "straight yarns) or circular (comparison only); overrides the scene")
-        ->check(CLI::IsMember({"elliptical", "local", "circular"}));
+        ->check(CLI::IsMember(ply_method_names()));
 
     std::string info_path;
     CLI::App* info = app.add_subcommand("info", "Describe a BCC curve file");

@@ -530,7 +530,7 @@ PYBIND11_MODULE(purlcore, m) {
     m.def("multiscale_parameters", [] { return describe_parameters(multiscale_param_table()); },
           "The multi-scale BYSDF parameters (render.multiscale in a scene; docs/multiscale.md).");
     m.def("multiscale_modes", [] { return std::vector<std::string>{"near", "multi", "far", "auto"}; });
-    m.def("ply_methods", [] { return std::vector<std::string>{"elliptical", "local", "circular"}; },
+    m.def("ply_methods", &ply_method_names,
           "Values of render.ply_method: how BYSDF yarns find the ply under a hit.");
     m.def("yarn_presets", &yarn_preset_names, "Names accepted by material.yarn.preset.");
     m.def(

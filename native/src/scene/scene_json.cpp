@@ -72,7 +72,7 @@ void read_render(JsonObject o, RenderSettings& r) {
     if (o.has("multiscale")) read_multiscale(o.object("multiscale"), r.multiscale);
     if (o.has("explicit")) read_explicit_options(o.object("explicit"), r.explicit_options);
     r.trace_only = o.choice("integrator", "path", {"path", "trace"}) == "trace";
-    r.ply_method = parse_ply_method(o.choice("ply_method", "elliptical", {"elliptical", "local", "circular"}), o.file());
+    r.ply_method = parse_ply_method(o.choice("ply_method", "elliptical", ply_method_names()), o.file());
     o.finish();
 }
 
@@ -309,6 +309,11 @@ YarnModel parse_yarn_model(const std::string& name, const std::string& source) {
     if (name == "ply") return YarnModel::Ply;
     if (name == "fiber") return YarnModel::Fiber;
     throw InputError(source, "model", "must be bysdf, ply or fiber, got \"" + name + "\"");
+}
+
+const std::vector<std::string>& ply_method_names() {
+    static const std::vector<std::string> names{"elliptical", "local", "circular"};
+    return names;
 }
 
 PlyCrossSection parse_ply_method(const std::string& name, const std::string& source) {

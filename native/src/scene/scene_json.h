@@ -2,6 +2,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -17,7 +18,8 @@ struct ExternalArrays {
 SceneDesc parse_view_text(const std::string& text, const std::string& source);
 
 YarnModel parse_yarn_model(const std::string& name, const std::string& source);
-// render.ply_method: "elliptical", "local" or "circular".
+// render.ply_method: "elliptical", "local" or "circular" (the names, in that order, for option lists).
+const std::vector<std::string>& ply_method_names();
 PlyCrossSection parse_ply_method(const std::string& name, const std::string& source);
 
 SceneDesc load_scene_file(const std::string& path);
