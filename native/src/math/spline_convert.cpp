@@ -59,8 +59,9 @@ BSplineSegments make_chain(std::vector<Vec4> cps, bool closed) {
     return out;
 }
 
-// For error messages.
-std::string basis_name(CurveBasis b) {
+}  // namespace
+
+const char* curve_basis_name(CurveBasis b) {
     switch (b) {
         case CurveBasis::BSpline: return "B-spline";
         case CurveBasis::CatmullRom: return "Catmull-Rom";
@@ -69,8 +70,6 @@ std::string basis_name(CurveBasis b) {
     }
     return "?";
 }
-
-}  // namespace
 
 bool BSplineSegments::is_chain() const {
     for (size_t s = 0; s < segment_first.size(); ++s)
@@ -199,7 +198,7 @@ std::vector<Vec4> interpolate_bspline(const Vec4* points, size_t n, bool closed)
 BSplineSegments to_bspline_segments(CurveBasis basis, const Vec4* points, size_t n, bool closed) {
     if (!valid_point_count(basis, n, closed))
         throw std::invalid_argument("to_bspline_segments: " + std::to_string(n) + " points cannot form " +
-                                    (closed ? "a closed " : "an open ") + basis_name(basis) + " curve");
+                                    (closed ? "a closed " : "an open ") + curve_basis_name(basis) + " curve");
     switch (basis) {
         // Already the target basis: copied as a chain.
         case CurveBasis::BSpline:

@@ -18,6 +18,7 @@
 namespace purl {
 
 enum class CurveBasis { BSpline, CatmullRom, Bezier, Polyline };
+const char* curve_basis_name(CurveBasis b);  // "B-spline", "Catmull-Rom", ... for messages
 
 // Uniform cubic B-spline segments. Segment s uses points[segment_first[s] + 0..3], t in [0, 1].
 // A chain has segment_first[s] == s; a closed chain already holds its 3 wrapped points.

@@ -142,16 +142,6 @@ std::ifstream open_for_reading(const std::string& path, uint64_t& size) {
     return in;
 }
 
-const char* basis_label(CurveBasis b) {
-    switch (b) {
-        case CurveBasis::BSpline: return "B-spline";
-        case CurveBasis::CatmullRom: return "Catmull-Rom";
-        case CurveBasis::Bezier: return "Bezier";
-        case CurveBasis::Polyline: return "polyline";
-    }
-    return "?";
-}
-
 }  // namespace
 
 BccHeader read_bcc_header(const std::string& path) {
@@ -200,7 +190,7 @@ BccCurves read_bcc(const std::string& path) {
                                               std::to_string(hd.point_count) + " remain");
         if (!valid_point_count(hd.basis, n, closed))
             throw InputError(path, place,
-                             std::string(closed ? "closed " : "open ") + basis_label(hd.basis) +
+                             std::string(closed ? "closed " : "open ") + curve_basis_name(hd.basis) +
                                  " curve cannot have " + std::to_string(n) + " points (needs at least " +
                                  std::to_string(min_points(hd.basis, closed)) +
                                  (hd.basis == CurveBasis::Bezier ? (closed ? ", a multiple of 3" : ", 3k+1") : "") + ")");
