@@ -217,11 +217,15 @@ CurvePoint SegmentExpansion::evaluate_centreline(float t) const {
     return c;
 }
 
-CurvePoint CurveFrames::evaluate_centreline(uint32_t segment, float t) const {
-    // Only the polynomial part of the expansion (cheap); no frame constants.
+SegmentExpansion CurveFrames::expand_centreline(uint32_t segment) const {
     SegmentExpansion e;
     expand_polynomials(view_.segment_points(segment), e);
-    return e.evaluate_centreline(t);
+    return e;
+}
+
+CurvePoint CurveFrames::evaluate_centreline(uint32_t segment, float t) const {
+    // Only the polynomial part of the expansion (cheap); no frame constants.
+    return expand_centreline(segment).evaluate_centreline(t);
 }
 
 CurvePoint SegmentExpansion::evaluate(float t) const {

@@ -81,6 +81,8 @@ public:
     // are left zero): enough to project points onto the centre-line, at a third of the cost.
     CurvePoint evaluate_centreline(uint32_t segment, float t) const;
     SegmentExpansion expand(uint32_t segment) const;
+    // The polynomial part of expand() only (no frame constants): what evaluate_centreline uses.
+    SegmentExpansion expand_centreline(uint32_t segment) const;
     // Moves (segment, t) by dt across segment boundaries (wrapping on closed loops).
     // Open curves stop at their ends (t may extrapolate at most half a segment past them);
     // returns false when it had to stop.

@@ -10,13 +10,22 @@ namespace purl {
 namespace {
 
 float wrap_angle(float a) {
-    a = std::fmod(a, 2 * kPi);
+    if (!(std::fabs(a) < 2 * kPi)) a = std::fmod(a, 2 * kPi);  // fmod would return a as it is
     return a < 0 ? a + 2 * kPi : a;
 }
 
 // The angle half-way (by t) from a to b along the shorter arc.
 float lerp_angle(float a, float b, float t) {
-    return a + std::remainder(b - a, 2 * kPi) * t;
+    float d = b - a;
+    // remainder(d, 2 pi) without the library call for |d| < 3 pi (map phases differ by less
+    // than 2 pi): the same value, since d -+ 2 pi is exact there.
+    if (std::fabs(d) < 3 * kPi) {
+        if (d > kPi) d -= 2 * kPi;
+        else if (d < -kPi) d += 2 * kPi;
+    } else {
+        d = std::remainder(d, 2 * kPi);
+    }
+    return a + d * t;
 }
 
 FiberSample blend(const FiberSample& a, const FiberSample& b, float t) {
@@ -52,6 +61,15 @@ RawSample probe(const Circles2D& circles, float angle, float outer_radius) {
 }
 
 uint16_t to_unit16(float v) { return static_cast<uint16_t>(std::lround(clamp(v, 0.0f, 1.0f) * 65535.0f)); }
+
+// The two samples around x = floor_x + fraction of a map of n samples, wrapping around: what
+// (floor_x + n) % n and (i0 + 1) % n give, without the divisions in the usual case (x from a
+// wrapped angle is in [-0.5, n - 0.5)).
+void neighbours(float floor_x, int n, int& i0, int& i1) {
+    const int k = static_cast<int>(floor_x) + n;
+    i0 = k >= 0 && k < 2 * n ? (k >= n ? k - n : k) : k % n;
+    i1 = i0 + 1 == n ? 0 : i0 + 1;
+}
 
 }  // namespace
 
@@ -111,14 +129,26 @@ FiberSample FiberMaps::sample(int variant, float angle) const {
     // Samples sit at the middle of their bins; blend the two around the angle.
     const float x = wrap_angle(angle) * (resolution_ / (2 * kPi)) - 0.5f;
     const float floor_x = std::floor(x);
-    const int i0 = (static_cast<int>(floor_x) + resolution_) % resolution_, i1 = (i0 + 1) % resolution_;
+    int i0, i1;
+    neighbours(floor_x, resolution_, i0, i1);
     const Packed* row = fiber_.data() + size_t(variant) * resolution_;
     return blend(unpack(row[i0]), unpack(row[i1]), x - floor_x);
 }
 
+FiberSample FiberMaps::sample_pair(int a, int b, float angle, float w) const {
+    // sample(a, angle) blended into sample(b, angle) by w, the angle wrapped once for both.
+    const float x = wrap_angle(angle) * (resolution_ / (2 * kPi)) - 0.5f;
+    const float floor_x = std::floor(x), f = x - floor_x;
+    int i0, i1;
+    neighbours(floor_x, resolution_, i0, i1);
+    const Packed *row_a = fiber_.data() + size_t(a) * resolution_, *row_b = fiber_.data() + size_t(b) * resolution_;
+    return blend(blend(unpack(row_a[i0]), unpack(row_a[i1]), f), blend(unpack(row_b[i0]), unpack(row_b[i1]), f), w);
+}
+
 int FiberMaps::variant_of(uint32_t key, int64_t cell) const {
-    return static_cast<int>(mix64((uint64_t(key) << 32) ^ static_cast<uint64_t>(cell) ^ 0x9e3779b97f4a7c15ULL) %
-                            static_cast<uint64_t>(variants_));
+    const uint64_t h = mix64((uint64_t(key) << 32) ^ static_cast<uint64_t>(cell) ^ 0x9e3779b97f4a7c15ULL);
+    const uint64_t n = static_cast<uint64_t>(variants_);
+    return static_cast<int>((n & (n - 1)) == 0 ? h & (n - 1) : h % n);  // a mask is the same modulo for 2^k
 }
 
 FiberSample FiberMaps::lookup(float angle, float cell_position, uint32_t key, uint32_t cells_per_loop) const {
@@ -127,20 +157,24 @@ FiberSample FiberMaps::lookup(float angle, float cell_position, uint32_t key, ui
     int64_t c0 = static_cast<int64_t>(floor_c), c1 = c0 + 1;
     if (cells_per_loop > 0) {
         const int64_t n = cells_per_loop;
-        c0 = ((c0 % n) + n) % n;
-        c1 = ((c1 % n) + n) % n;
+        if (c0 >= 0 && c0 < n) {  // the usual case: the same as below, without 64-bit divisions
+            c1 = c0 + 1 == n ? 0 : c0 + 1;
+        } else {
+            c0 = ((c0 % n) + n) % n;
+            c1 = ((c1 % n) + n) % n;
+        }
     }
     // Smoothstep across the whole cell: C1 along the ply, no visible switch.
     const float f = cell_position - floor_c, w = f * f * (3 - 2 * f);
     const int a = variant_of(key, c0), b = variant_of(key, c1);
-    const FiberSample sa = sample(a, angle);
-    return a == b ? sa : blend(sa, sample(b, angle), w);
+    return a == b ? sample(a, angle) : sample_pair(a, b, angle, w);
 }
 
 float FiberMaps::ply_shadowing(float azimuth) const {
     const float x = wrap_angle(azimuth) * (resolution_ / (2 * kPi)) - 0.5f;
     const float floor_x = std::floor(x);
-    const int i0 = (static_cast<int>(floor_x) + resolution_) % resolution_, i1 = (i0 + 1) % resolution_;
+    int i0, i1;
+    neighbours(floor_x, resolution_, i0, i1);
     const float t = x - floor_x;
     return (ply_[i0] * (1 - t) + ply_[i1] * t) * (1.0f / 65535.0f);
 }

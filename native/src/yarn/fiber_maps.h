@@ -60,6 +60,7 @@ private:
         uint16_t shadowing;     // 1 / 65535 per step
     };
     FiberSample unpack(const Packed& p) const;
+    FiberSample sample_pair(int a, int b, float angle, float w) const;
 
     int variants_ = 0, resolution_ = 0;
     std::vector<Packed> fiber_;      // variants_ x resolution_

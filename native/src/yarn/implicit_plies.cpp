@@ -9,7 +9,7 @@ namespace purl {
 namespace {
 
 float wrap_angle(float a) {
-    a = std::fmod(a, 2 * kPi);
+    if (!(std::fabs(a) < 2 * kPi)) a = std::fmod(a, 2 * kPi);  // fmod would return a as it is
     if (a < 0) a += 2 * kPi;
     return a >= 2 * kPi ? 0.0f : a;
 }
@@ -62,7 +62,7 @@ struct PlyCut {
 void locate(const CachedCurve& frames, double g, uint32_t& segment, float& t) {
     const double n = frames.segment_count();
     if (frames.closed()) {
-        g = std::fmod(g, n);
+        if (!(std::fabs(g) < n)) g = std::fmod(g, n);  // fmod would return g as it is
         if (g < 0) g += n;
     } else {
         g = std::min(std::max(g, 0.0), n);
@@ -115,11 +115,20 @@ PlyHit finish_hit(const Candidate& c, Vec3 point, const YarnTwist& tw, const Yar
     return h;
 }
 
-PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t segment, float t) {
+PlyHit pass_through(const YarnTubeHit& hit, float exit_distance) {
     PlyHit h;
-    h.exit_distance = tube_chord_length(frames, segment, t, hit.point, hit.direction);
+    h.exit_distance = exit_distance;
     h.point = hit.point + hit.direction * h.exit_distance;
     return h;
+}
+
+PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t segment, float t) {
+    return pass_through(hit, tube_chord_length(frames, segment, t, hit.point, hit.direction));
+}
+
+// The same when `at` is the projection of the tube entry itself (not of a neighbouring point).
+PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, const CentrelineProjection& at) {
+    return pass_through(hit, tube_exit(frames, at, hit.point, hit.direction).distance);
 }
 
 // A ray passing this close (in tolerances) outside a ply still touches it: the explicit
@@ -389,13 +398,24 @@ struct PieceGrid {
     float D[2][kMaxPlies], f[2][kMaxPlies], slope[2][kMaxPlies];  // at the previous and latest node
 
     static int padded(int plies) { return (plies + 3) & ~3; }
-    void set(const PlyPoly* polys, int plies) {
-        for (int i = 0; i < padded(plies); ++i) {
-            const PlyPoly& p = polys[i < plies ? i : 0];
-            for (int j = 0; j < 6; ++j) x[j][i] = p.x.k[j], y[j][i] = p.y.k[j];
-            for (int j = 0; j < 5; ++j) x[6 + j][i] = p.x.d[j], y[6 + j][i] = p.y.d[j];
-            for (int j = 0; j < 4; ++j) x[11 + j][i] = p.x.dd[j], y[11 + j][i] = p.y.dd[j];
+    // The coefficients LocalYarn::ply gives (the same arithmetic), straight from the piece,
+    // every ply at once; cp, sp: cos and sin of each ply's offset, padded like the plies.
+    void set(const Piece& q, const float* cp, const float* sp, int plies) {
+        const int n = padded(plies);
+        for (int j = 0; j < 6; ++j) {
+            const Vec3 c = q.centre.k[j], ar = q.ar.k[j], ai = q.ai.k[j];
+            for (int i = 0; i < n; ++i) {
+                x[j][i] = c.x + ar.x * cp[i] - ai.x * sp[i];
+                y[j][i] = c.y + ar.y * cp[i] - ai.y * sp[i];
+            }
         }
+        for (int j = 0; j < 5; ++j)
+            for (int i = 0; i < n; ++i) x[6 + j][i] = float(j + 1) * x[j + 1][i], y[6 + j][i] = float(j + 1) * y[j + 1][i];
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < n; ++i) {
+                const float k = float((j + 1) * (j + 2));
+                x[11 + j][i] = k * x[j + 2][i], y[11 + j][i] = k * y[j + 2][i];
+            }
     }
     // Every ply at v into slot `to` (0 or 1).
     void node(int plies, float v, float ih, bool ply_plane, int to) {
@@ -433,8 +453,30 @@ struct Work {
     Sampled lo, hi;  // a bracket of one crossing
 };
 
+// The current piece's plies as PlyPolys, each built when first asked for (the grid has its own
+// copy of the coefficients; only plies with work need these).
+struct PiecePlies {
+    const LocalYarn* model = nullptr;
+    int piece = 0;
+    uint32_t built = 0;
+    Slots<PlyPoly, kMaxPlies> items;  // left uninitialized until built
+
+    void reset(const LocalYarn& m, int j) {
+        model = &m;
+        piece = j;
+        built = 0;
+    }
+    const PlyPoly& operator[](int i) {
+        if (!(built >> i & 1)) {
+            items[i] = model->ply(i, piece);
+            built |= 1u << i;
+        }
+        return items[i];
+    }
+};
+
 struct Search {
-    const PlyPoly* polys;  // the current piece's plies
+    PiecePlies* polys;  // the current piece's plies
     bool ply_plane;
     float reach2;        // (ply radius + model margin)^2: a closer approach may be a crossing
     float speed, accel;  // bounds on |p'| and |p''| over the current piece (ply plane)
@@ -474,7 +516,7 @@ struct Search {
             if (r > 0 && r < 1 && (((k3 * r + k2) * r + p) * r + a.f) * sign < margin) u = r;
         }
         if (u < 0) return;
-        const Sampled mid = sample(polys[ply], a.s + h * clamp(u, 0.1f, 0.9f), ply_plane);
+        const Sampled mid = sample((*polys)[ply], a.s + h * clamp(u, 0.1f, 0.9f), ply_plane);
         interval(ply, a, mid, depth + 1);
         interval(ply, mid, b, depth + 1);
     }
@@ -631,7 +673,7 @@ PlyHit trace_circular(const CurveFrames& frames, const YarnDescription& d, const
         best.enter = enter;
         best_normal = normal;
     }
-    if (!found) return pass_through(frames, hit, at.segment, at.t);
+    if (!found) return pass_through(frames, hit, at);
     PlyHit h = finish_hit(best, hit.point + hit.direction * best.enter, tw, hit);
     // The circular method's normal is the 2D one, in the frozen cross-section.
     h.normal = best_normal;
@@ -760,6 +802,7 @@ bool exact_crossing(const CachedCurve& frames, const YarnDescription& d, const Y
 struct Stretch {
     double g_lo, g_hi;
     float s_lo, s_hi;
+    float exit_distance;  // on bends, where the ray leaves the tube (m from the entry); else -1
 };
 
 Stretch ray_stretch(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
@@ -775,6 +818,7 @@ Stretch ray_stretch(const CurveFrames& frames, const YarnDescription& d, const Y
     const float along = dot(hit.direction, c.tangent);
     const float margin = d.ply_radius * radius * (1 + tan_psi) + 0.05f * radius + 0.1f * chord * std::fabs(along);
     Stretch st;
+    st.exit_distance = -1;
     st.s_lo = std::min(0.0f, chord * along) - margin;
     st.s_hi = std::max(0.0f, chord * along) + margin;
     const double g0 = at.segment + double(at.t), inv_speed = 1.0 / std::max(c.speed, 1e-30f);
@@ -782,9 +826,14 @@ Stretch ray_stretch(const CurveFrames& frames, const YarnDescription& d, const Y
     st.g_hi = g0 + st.s_hi * inv_speed;
     if (length(c.curvature) * radius > 0.02f) {
         // On a bend the straight tube's chord is only a guess: find where the ray really leaves.
-        const TubeExit exit = tube_exit(frames, at.segment, at.t, hit.point, hit.direction);
+        const TubeExit exit = tube_exit(frames, at, hit.point, hit.direction);
+        st.exit_distance = exit.distance;  // a pass-through needs it again
         double g_exit = exit.segment + double(exit.t);
-        if (frames.closed()) g_exit = g0 + std::remainder(g_exit - g0, double(frames.segment_count()));
+        if (frames.closed()) {
+            // remainder(d, n), without the library call when |d| <= n / 2 (where it is d).
+            const double n = frames.segment_count(), d = g_exit - g0;
+            g_exit = g0 + (std::fabs(d) <= 0.5 * n ? d : std::remainder(d, n));
+        }
         const double pad = margin * inv_speed;
         st.g_lo = std::min(st.g_lo, std::min(g0, g_exit) - pad);
         st.g_hi = std::max(st.g_hi, std::max(g0, g_exit) + pad);
@@ -822,7 +871,12 @@ public:
         tolerance_ = options.tolerance * radius;
         slack_ = options.model_margin * radius + tolerance_;
         shift_ = stretch.s_hi - stretch.s_lo;
-        search_.polys = &polys_[0];
+        search_.polys = &polys_;
+        // Every ply's offset, padded to the grid's width with ply 0's.
+        for (int i = 0; i < kMaxPlies; ++i) {
+            grid_cos_[i] = m_.cos_offset[i < m_.plies ? i : 0];
+            grid_sin_[i] = m_.sin_offset[i < m_.plies ? i : 0];
+        }
         for (bool& h : have_) h = false;
     }
 
@@ -886,7 +940,7 @@ private:
         const uint32_t late = ply_plane_ && earliest > best_bound_ ? ~continuing_ : 0u;
         const uint32_t all = (1u << m_.plies) - 1;
         if ((late & all) == all && sure_mask == all) return false;
-        for (int i = 0; i < m_.plies; ++i) polys_[i] = m_.ply(i, j);
+        polys_.reset(m_, j);
         piece_bounds(m_, q, search_);
         search_.reach2 = sqr(r_max + slack_);
         search_.count = 0;
@@ -900,7 +954,7 @@ private:
     // Every ply at the piece's grid nodes; intervals that may hold a crossing become work. Also
     // notes which plies are within reach where the next piece in ray order begins.
     void scan_grid(const Piece& q, uint32_t late, float sure2) {
-        grid_.set(&polys_[0], m_.plies);
+        grid_.set(q, grid_cos_, grid_sin_, m_.plies);
         float s_prev = q.s0;
         int prev = 0;
         grid_.node(m_.plies, 0, q.inv_h, ply_plane_, prev);
@@ -994,26 +1048,28 @@ private:
     float s_origin_ = 0;
     bool origin_set_ = false;
     Search search_;
-    Slots<PlyPoly, kMaxPlies> polys_;
+    PiecePlies polys_;
+    float grid_cos_[kMaxPlies], grid_sin_[kMaxPlies];
     PieceGrid grid_;  // left uninitialized: filled per piece
     float best_bound_ = kNoEntry;  // no exact entry can come later than this
     bool forward_ = true;
     uint32_t continuing_ = 0;  // plies within reach where the next piece in ray order begins
 };
 
-PlyHit trace_elliptical(const CurveFrames& yarn_frames, const YarnDescription& d, const YarnTwist& tw,
+// `frames` caches the few segments the ray's stretch spans (expanded once for the projection,
+// the knots and the exact refinements); `at` is the projection of the tube entry.
+PlyHit trace_elliptical(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw,
                         const YarnTubeHit& hit, const CentrelineProjection& at, const PlyTraceOptions& options) {
-    // The few segments the ray's stretch spans are expanded once for the knots and the exact
-    // refinements.
-    const CachedCurve frames(yarn_frames);
+    const CurveFrames& yarn_frames = frames.frames();
     const CurvePoint& c = at.point;
     const Vec3 across = cross(c.tangent, hit.direction);
     const float across_length = length(across);
-    if (across_length < 1e-4f) return pass_through(yarn_frames, hit, at.segment, at.t);
+    if (across_length < 1e-4f) return pass_through(yarn_frames, hit, at);
     const float radius = c.radius;
     const float along = dot(hit.direction, c.tangent);
     const Stretch stretch = ray_stretch(yarn_frames, d, hit, at, std::fabs(along) / across_length);
-    if (!(stretch.s_hi - stretch.s_lo > 1e-6f * radius)) return pass_through(yarn_frames, hit, at.segment, at.t);
+    if (!(stretch.s_hi - stretch.s_lo > 1e-6f * radius))
+        return stretch.exit_distance >= 0 ? pass_through(hit, stretch.exit_distance) : pass_through(yarn_frames, hit, at);
 
     ModelSearch search(frames, d, tw, hit, stretch, radius, options);
     search.run(normalize(cross(hit.direction, across / across_length)), along >= 0);
@@ -1082,7 +1138,8 @@ PlyHit trace_elliptical(const CurveFrames& yarn_frames, const YarnDescription& d
     }
 
     PlyHit h = found ? finish_hit(best, hit.point + hit.direction * std::max(best.enter, 0.0f), tw, hit)
-                     : pass_through(yarn_frames, hit, at.segment, at.t);
+                     : stretch.exit_distance >= 0 ? pass_through(hit, stretch.exit_distance)
+                                                  : pass_through(yarn_frames, hit, at);
     if (found) h.plies_crossed = __builtin_popcount(crossed_mask);
     h.iterations = evaluations;
     h.max_ply_iterations = worst;
@@ -1100,7 +1157,10 @@ PlyHit trace_elliptical(const CurveFrames& yarn_frames, const YarnDescription& d
 // sincosf was a quarter of the local method's time): quadrant reduction by pi/2 in two
 // parts, then Taylor polynomials on [-pi/4, pi/4].
 inline void turn_sincos(float a, float& c, float& s) {
-    const float q = std::nearbyint(a * 0.636619772f);
+    // nearbyint without a library call: adding and removing 1.5 * 2^23 rounds to the nearest
+    // whole number (ties to even, as nearbyint in the default rounding mode) for |x| < 2^22.
+    const float x = a * 0.636619772f;
+    const float q = std::fabs(x) < 4194304.0f ? (x + 12582912.0f) - 12582912.0f : std::nearbyint(x);
     const float r = (a - q * 1.57079625f) - q * 7.54978995e-8f;
     const float r2 = r * r;
     const float sr = r * (1 + r2 * (-1.0f / 6 + r2 * (1.0f / 120 + r2 * (-1.0f / 5040))));
@@ -1138,8 +1198,12 @@ struct LocalHelices {
         const float wz = dot(w, ray);
         return dot(w, w) - wz * wz;
     }
+    float offsets[32];  // 2 pi i / N of ply i, set by set_offsets
+    void set_offsets(int plies) {
+        for (int i = 0; i < plies && i < 32; ++i) offsets[i] = 2 * kPi * i / plies;
+    }
     void phase_at(int ply, int plies, float s, float& cp, float& sp) const {
-        turn_sincos(phase + rate * s + 2 * kPi * ply / plies, cp, sp);
+        turn_sincos(phase + rate * s + offsets[ply], cp, sp);
     }
 };
 
@@ -1303,13 +1367,16 @@ void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, flo
     if (prev.f < 0 && prev.miss <= m.ply_radius) visit(s_hi);
 }
 
+// at_entry: `at` is the projection of the tube entry itself (else of a point near it), so a
+// pass-through's exit search may start from it.
 PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
-                   const CentrelineProjection& at, const PlyTraceOptions& options) {
+                   const CentrelineProjection& at, const PlyTraceOptions& options, bool at_entry) {
+    const auto pass = [&] { return at_entry ? pass_through(frames, hit, at) : pass_through(frames, hit, at.segment, at.t); };
     const CurvePoint& c = at.point;
     const float radius = std::max(c.radius, 1e-30f);
     const Vec3 across = cross(c.tangent, hit.direction);
     const float across_length = length(across);
-    if (across_length < 1e-4f) return pass_through(frames, hit, at.segment, at.t);
+    if (across_length < 1e-4f) return pass();
 
     LocalHelices m;
     m.c = c.position - hit.point;
@@ -1325,6 +1392,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
     m.rate = tw.ply_rate;
     m.phase = ply_phase(tw, c.arc_length);
     const int plies = std::max(1, d.plies());
+    m.set_offsets(plies);
 
     // The stretch the ray crosses: the straight tube's chord from the entry (which may lie off
     // the modelled cross-section along the yarn), widened by how far a ply's cut reaches along
@@ -1342,7 +1410,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
         s_lo = std::max(s_lo, -c.arc_length);
         s_hi = std::min(s_hi, frames.total_length() - c.arc_length);
     }
-    if (!(s_hi > s_lo)) return pass_through(frames, hit, at.segment, at.t);
+    if (!(s_hi > s_lo)) return pass();
 
     // Nodes every quarter turn of the plies (at most 64), subdivided where the ply may come
     // within reach of the ray: a sign change of f brackets a closest approach.
@@ -1396,7 +1464,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
             best_s = se;
         }
     }
-    if (best_ply < 0) return pass_through(frames, hit, at.segment, at.t);
+    if (best_ply < 0) return pass();
     best_enter = std::max(best_enter, 0.0f);
     Candidate best{best_ply, local_cut(frames, at, m, d, tw, best_ply, best_s, hit.point)};
     best.enter = best_enter;
@@ -1409,7 +1477,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
 
 PlyHit trace_plies_local(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
                          const YarnTubeHit& hit, const CentrelineProjection& around, const PlyTraceOptions& options) {
-    return trace_local(frames, d, twist, hit, around, options);
+    return trace_local(frames, d, twist, hit, around, options, false);
 }
 
 PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
@@ -1419,14 +1487,18 @@ PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const Ya
 
 PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
                    const PlyTraceOptions& options) {
-    const CentrelineProjection at = project_to_centreline(frames, hit.point, hit.segment, hit.t);
     switch (options.cross_section) {
         case PlyCrossSection::circular:
-            return trace_circular(frames, d, tw, hit, at);
+            return trace_circular(frames, d, tw, hit, project_to_centreline(frames, hit.point, hit.segment, hit.t));
         case PlyCrossSection::local:
-            return trace_local(frames, d, tw, hit, at, options);
-        default:
-            return trace_elliptical(frames, d, tw, hit, at, options);
+            return trace_local(frames, d, tw, hit, project_to_centreline(frames, hit.point, hit.segment, hit.t),
+                               options, true);
+        default: {
+            // One cache of segment expansions for the whole query, starting with the projection's.
+            const CachedCurve cache(frames);
+            return trace_elliptical(cache, d, tw, hit, project_to_centreline(cache, hit.point, hit.segment, hit.t),
+                                    options);
+        }
     }
 }
 

@@ -6,6 +6,43 @@
 namespace purl {
 namespace {
 
+// The centre-line polynomials of the few segments a projection visits (tube_exit projects a
+// handful of points along the ray, mostly within one or two segments): expanded once each
+// instead of at every Newton step. Same numbers as CurveFrames::evaluate_centreline.
+class CentrelineCache {
+public:
+    explicit CentrelineCache(const CurveFrames& frames) : frames_(frames) {
+        for (uint32_t& tag : tags_) tag = kEmpty;
+    }
+    const CurveFrames& frames() const { return frames_; }
+    CurvePoint evaluate_centreline(uint32_t segment, float t) {
+        const uint32_t slot = segment % kSlots;
+        if (tags_[slot] != segment) {
+            slots_[slot] = frames_.expand_centreline(segment);
+            tags_[slot] = segment;
+        }
+        return slots_[slot].evaluate_centreline(t);
+    }
+
+private:
+    static constexpr uint32_t kSlots = 4;
+    static constexpr uint32_t kEmpty = ~0u;
+    const CurveFrames& frames_;
+    uint32_t tags_[kSlots];
+    union {  // left uninitialized: a slot is read only after its tag is set
+        SegmentExpansion slots_[kSlots];
+    };
+};
+
+// The same through a query's CachedCurve (whose full expansions the frame evaluations reuse).
+struct CachedCentreline {
+    const CachedCurve& cache;
+    const CurveFrames& frames() const { return cache.frames(); }
+    CurvePoint evaluate_centreline(uint32_t segment, float t) const {
+        return cache.segment_expansion(segment).evaluate_centreline(t);
+    }
+};
+
 // Newton on f(s) = (C(s) - x).T(s), f'(s) = 1 + (C - x).dT/ds, in arc length; returns the
 // centre-line point without its frame.
 struct Projected {
@@ -15,8 +52,10 @@ struct Projected {
     bool converged;
 };
 
-Projected project(const CurveFrames& frames, Vec3 x, uint32_t segment, float t, int max_steps) {
-    CurvePoint c = frames.evaluate_centreline(segment, t);
+// From (segment, t), whose centre-line point c the caller already has.
+template <class Curve>
+Projected project_from(Curve& curve, Vec3 x, uint32_t segment, float t, CurvePoint c, int max_steps) {
+    const CurveFrames& frames = curve.frames();
     const float tolerance = 1e-5f * std::max(c.radius, 1e-30f);
     bool converged = false;
     for (int step = 0; step < max_steps; ++step) {
@@ -30,21 +69,24 @@ Projected project(const CurveFrames& frames, Vec3 x, uint32_t segment, float t, 
             break;
         }
         if (!frames.advance(segment, t, ds / std::max(c.speed, 1e-30f))) {
-            c = frames.evaluate_centreline(segment, t);
+            c = curve.evaluate_centreline(segment, t);
             break;  // the closest point is past an open end
         }
-        c = frames.evaluate_centreline(segment, t);
+        c = curve.evaluate_centreline(segment, t);
     }
     return {segment, t, c, converged};
 }
 
-// Signed distance of x outside the tube (negative inside), and the projection it used.
-float outside_distance(const CurveFrames& frames, Vec3 x, uint32_t& segment, float& t, CurvePoint* at = nullptr) {
-    const Projected p = project(frames, x, segment, t, 6);
-    segment = p.segment;
-    t = p.t;
-    if (at) *at = p.c;
-    return length(x - p.c.position) - p.c.radius;
+template <class Curve>
+Projected project(Curve& curve, Vec3 x, uint32_t segment, float t, int max_steps) {
+    return project_from(curve, x, segment, t, curve.evaluate_centreline(segment, t), max_steps);
+}
+
+// Signed distance of x outside the tube (negative inside); `at` moves from the previous
+// projection (whose centre-line point is reused) to x's.
+float outside_distance(CentrelineCache& frames, Vec3 x, Projected& at) {
+    at = project_from(frames, x, at.segment, at.t, at.c, 6);
+    return length(x - at.c.position) - at.c.radius;
 }
 
 // Where the ray from `point` leaves the straight cylinder along c's tangent (-1: it does not).
@@ -59,15 +101,15 @@ float cylinder_exit(const CurvePoint& c, Vec3 point, Vec3 direction) {
 }
 
 // Regula falsi (Illinois) inside the bracket h(lo) <= 0 < h(hi).
-TubeExit illinois(const CurveFrames& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
-                  float h_lo, float h_hi, uint32_t seg, float tt) {
+TubeExit illinois(CentrelineCache& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
+                  float h_lo, float h_hi, Projected at) {
     float h = 0;
     int side = 0;
     float x = hi;
     for (int step = 0; step < 40; ++step) {
         x = (lo * h_hi - hi * h_lo) / (h_hi - h_lo);
         if (!(x > lo && x < hi)) x = 0.5f * (lo + hi);
-        h = outside_distance(frames, point + direction * x, seg, tt);
+        h = outside_distance(frames, point + direction * x, at);
         if (std::fabs(h) < 1e-5f * radius || hi - lo < 1e-6f * radius) break;
         if (h > 0) {
             hi = x;
@@ -81,14 +123,22 @@ TubeExit illinois(const CurveFrames& frames, Vec3 point, Vec3 direction, float r
             side = -1;
         }
     }
-    return {std::isfinite(x) ? std::max(x, 0.0f) : 0.0f, seg, tt};
+    return {std::isfinite(x) ? std::max(x, 0.0f) : 0.0f, at.segment, at.t};
 }
 
 }  // namespace
 
 CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, uint32_t segment, float t,
                                            int max_steps) {
-    const Projected p = project(frames, x, segment, t, max_steps);
+    // The segment the projection ends in is expanded once for its steps and the final frame.
+    const CachedCurve cache(frames);
+    return project_to_centreline(cache, x, segment, t, max_steps);
+}
+
+CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
+                                           int max_steps) {
+    CachedCentreline curve{frames};
+    const Projected p = project(curve, x, segment, t, max_steps);
     CentrelineProjection r;
     r.segment = p.segment;
     r.t = p.t;
@@ -98,12 +148,9 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
     return r;
 }
 
-float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
-    return tube_exit(frames, segment, t, point, direction).distance;
-}
+namespace {
 
-TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
-    const Projected start = project(frames, point, segment, t, 6);
+TubeExit exit_from(CentrelineCache& frames, const Projected& start, Vec3 point, Vec3 direction) {
     const CurvePoint& c = start.c;
     const float radius = std::max(c.radius, 1e-30f);
 
@@ -118,32 +165,29 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
     guess = clamp(guess, 0.0f, max_chord);
 
     // Bracket the first exit: h(lo) <= 0 < h(hi). Inside, R - distance bounds the step.
-    uint32_t seg = start.segment;
-    float tt = start.t;
+    Projected at = start;
     float lo = 0, hi = -1, h_lo = -radius, h_hi = 0;
-    CurvePoint at_guess;
-    float h = outside_distance(frames, point + direction * guess, seg, tt, &at_guess);
-    if (std::fabs(h) < 1e-5f * radius) return {guess, seg, tt};
+    float h = outside_distance(frames, point + direction * guess, at);
+    if (std::fabs(h) < 1e-5f * radius) return {guess, at.segment, at.t};
     // On a bend the cylinder at the guess's own cross-section fits the tube where the ray
     // leaves much better than the one at the start: one such step usually lands within
     // tolerance. Accepted only when it moves less than a radius and keeps the bracket's order.
     {
-        const float better = cylinder_exit(at_guess, point, direction);
+        const float better = cylinder_exit(at.c, point, direction);
         if (better > 0 && std::fabs(better - guess) < radius && better < max_chord) {
-            uint32_t seg2 = seg;
-            float tt2 = tt;
-            const float h2 = outside_distance(frames, point + direction * better, seg2, tt2);
-            if (std::fabs(h2) < 1e-5f * radius) return {better, seg2, tt2};
+            Projected at2 = at;
+            const float h2 = outside_distance(frames, point + direction * better, at2);
+            if (std::fabs(h2) < 1e-5f * radius) return {better, at2.segment, at2.t};
             // Keep whichever of the two points brackets the exit more tightly.
             if ((h > 0 && h2 > 0 && better < guess) || (h <= 0 && h2 <= 0 && better > guess)) {
-                guess = better, h = h2, seg = seg2, tt = tt2;
+                guess = better, h = h2, at = at2;
             } else if (h > 0 && h2 <= 0 && better < guess) {
                 // Bracket [better, guess] directly.
                 float lo = better, hi = guess, h_lo = h2, h_hi = h;
-                return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, seg, tt);
+                return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, at);
             } else if (h <= 0 && h2 > 0 && better > guess) {
                 float lo = guess, hi = better, h_lo = h, h_hi = h2;
-                return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, seg2, tt2);
+                return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, at2);
             }
         }
     }
@@ -156,7 +200,7 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
         float x = guess;
         for (int step = 0; step < 400 && x < max_chord; ++step) {
             x += std::max(-h, 0.02f * radius);
-            h = outside_distance(frames, point + direction * x, seg, tt);
+            h = outside_distance(frames, point + direction * x, at);
             if (h > 0) {
                 hi = x;
                 h_hi = h;
@@ -165,9 +209,28 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
             lo = x;
             h_lo = h;
         }
-        if (hi < 0) return {std::min(x, max_chord), seg, tt};  // never left: runs along the yarn
+        if (hi < 0) return {std::min(x, max_chord), at.segment, at.t};  // never left: runs along the yarn
     }
-    return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, seg, tt);
+    return illinois(frames, point, direction, radius, lo, hi, h_lo, h_hi, at);
+}
+
+}  // namespace
+
+float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
+    return tube_exit(frames, segment, t, point, direction).distance;
+}
+
+TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
+    CentrelineCache curve(frames);
+    return exit_from(curve, project(curve, point, segment, t, 6), point, direction);
+}
+
+TubeExit tube_exit(const CurveFrames& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction) {
+    CentrelineCache curve(frames);
+    // A converged projection of `point` is where the projection below would stop at once.
+    const Projected p = start.converged ? Projected{start.segment, start.t, start.point, true}
+                                        : project(curve, point, start.segment, start.t, 6);
+    return exit_from(curve, p, point, direction);
 }
 
 }  // namespace purl

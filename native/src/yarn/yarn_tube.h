@@ -19,6 +19,10 @@ struct CentrelineProjection {
 // Embree's curve parameter. Stops after max_steps.
 CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, uint32_t segment, float t,
                                            int max_steps = 8);
+// The same through a query's cache of segment expansions (the same numbers; the segments it
+// expands are then at hand for the query's later evaluations).
+CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
+                                           int max_steps = 8);
 
 // Distance (m) from `point`, inside or on the tube, along unit `direction` to where the ray
 // leaves the tube. (segment, t) is a centre-line parameter near `point`. Exact for a straight
@@ -33,5 +37,8 @@ struct TubeExit {
     float t = 0;
 };
 TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction);
+// The same from a projection of `point` onto the centre-line already at hand (project_to_centreline
+// of `point`; when converged, the exit search starts from it without projecting again).
+TubeExit tube_exit(const CurveFrames& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction);
 
 }  // namespace purl
