@@ -306,6 +306,13 @@ def build_material(material, structure=None, use_drivers=True):
             if use_drivers:
                 _drive(tree, socket, material, "purl.params_bysdf." + name, int(parameter["components"]))
     links.new(script.outputs["BSDF"], output.inputs["Surface"])
+    # The shader's Displacement output makes Cycles run it as the material's bump pass, where it
+    # sets the shading normal of the hit to the fiber normal (see the shader and docs/osl.md).
+    if hasattr(material, "displacement_method"):  # Blender 4.1+; before, a Cycles material setting
+        material.displacement_method = "BUMP"
+    elif hasattr(getattr(material, "cycles", None), "displacement_method"):
+        material.cycles.displacement_method = "BUMP"
+    links.new(script.outputs["Displacement"], output.inputs["Displacement"])
     return script
 
 
