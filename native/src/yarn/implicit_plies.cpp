@@ -1198,9 +1198,9 @@ struct LocalHelices {
         const float wz = dot(w, ray);
         return dot(w, w) - wz * wz;
     }
-    float offsets[32];  // 2 pi i / N of ply i, set by set_offsets
+    float offsets[kMaxPlies];  // 2 pi i / N of ply i, set by set_offsets
     void set_offsets(int plies) {
-        for (int i = 0; i < plies && i < 32; ++i) offsets[i] = 2 * kPi * i / plies;
+        for (int i = 0; i < plies && i < kMaxPlies; ++i) offsets[i] = 2 * kPi * i / plies;
     }
     void phase_at(int ply, int plies, float s, float& cp, float& sp) const {
         turn_sincos(phase + rate * s + offsets[ply], cp, sp);
