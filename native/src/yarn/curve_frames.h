@@ -112,26 +112,34 @@ private:
 // A few segment expansions of one curve kept for the length of one query (not shared between
 // threads): the stretch of yarn a ray crosses spans a handful of segments, each evaluated many
 // times by the ply search. Direct-mapped by segment index; same results as CurveFrames.
-class CachedCurve {
+// kCentrelineOnly keeps only the polynomials (CurveFrames::expand_centreline): enough for
+// projections onto the centre-line, at a third of the cost.
+template <bool kCentrelineOnly, uint32_t kSlots>
+class SegmentCache {
 public:
-    explicit CachedCurve(const CurveFrames& frames) : frames_(frames) {
+    explicit SegmentCache(const CurveFrames& frames) : frames_(frames) {
         for (uint32_t& tag : tags_) tag = kEmpty;
     }
     const CurveFrames& frames() const { return frames_; }
     uint32_t segment_count() const { return frames_.segment_count(); }
     bool closed() const { return frames_.closed(); }
-    CurvePoint evaluate(uint32_t segment, float t) const { return segment_expansion(segment).evaluate(t); }
+    CurvePoint evaluate(uint32_t segment, float t) const {
+        static_assert(!kCentrelineOnly, "a centre-line cache has no frames");
+        return segment_expansion(segment).evaluate(t);
+    }
+    CurvePoint evaluate_centreline(uint32_t segment, float t) const {
+        return segment_expansion(segment).evaluate_centreline(t);
+    }
     const SegmentExpansion& segment_expansion(uint32_t segment) const {
         const uint32_t slot = segment % kSlots;
         if (tags_[slot] != segment) {
-            slots_[slot] = frames_.expand(segment);
+            slots_[slot] = kCentrelineOnly ? frames_.expand_centreline(segment) : frames_.expand(segment);
             tags_[slot] = segment;
         }
         return slots_[slot];
     }
 
 private:
-    static constexpr uint32_t kSlots = 8;
     static constexpr uint32_t kEmpty = ~0u;
     const CurveFrames& frames_;
     mutable uint32_t tags_[kSlots];
@@ -141,6 +149,11 @@ private:
         mutable SegmentExpansion slots_[kSlots];
     };
 };
+// The ply search's cache (frames and all).
+using CachedCurve = SegmentCache<false, 8>;
+// A tube-exit search's cache: it projects a handful of points along the ray, mostly within one
+// or two segments.
+using CachedCentreline = SegmentCache<true, 4>;
 
 // Frames for a set of chain curves laid out as YarnCurves stores them (offsets[c] ..
 // offsets[c+1] are curve c's points; closed loops already wrapped), without linking purl_scene.

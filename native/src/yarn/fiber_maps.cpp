@@ -62,13 +62,19 @@ RawSample probe(const Circles2D& circles, float angle, float outer_radius) {
 
 uint16_t to_unit16(float v) { return static_cast<uint16_t>(std::lround(clamp(v, 0.0f, 1.0f) * 65535.0f)); }
 
-// The two samples around x = floor_x + fraction of a map of n samples, wrapping around: what
-// (floor_x + n) % n and (i0 + 1) % n give, without the divisions in the usual case (x from a
-// wrapped angle is in [-0.5, n - 0.5)).
-void neighbours(float floor_x, int n, int& i0, int& i1) {
+// The two map samples around `angle` in a map of n samples around the circle (samples sit at
+// the middle of their bins), wrapping around, and the blend weight between them. Without the
+// divisions of (floor + n) % n in the usual case (x from a wrapped angle is in [-0.5, n - 0.5)).
+struct Neighbours {
+    int i0, i1;
+    float f;
+};
+Neighbours neighbours(float angle, int n) {
+    const float x = wrap_angle(angle) * (n / (2 * kPi)) - 0.5f;
+    const float floor_x = std::floor(x);
     const int k = static_cast<int>(floor_x) + n;
-    i0 = k >= 0 && k < 2 * n ? (k >= n ? k - n : k) : k % n;
-    i1 = i0 + 1 == n ? 0 : i0 + 1;
+    const int i0 = k >= 0 && k < 2 * n ? (k >= n ? k - n : k) : k % n;
+    return {i0, i0 + 1 == n ? 0 : i0 + 1, x - floor_x};
 }
 
 }  // namespace
@@ -126,23 +132,16 @@ FiberSample FiberMaps::unpack(const Packed& p) const {
 }
 
 FiberSample FiberMaps::sample(int variant, float angle) const {
-    // Samples sit at the middle of their bins; blend the two around the angle.
-    const float x = wrap_angle(angle) * (resolution_ / (2 * kPi)) - 0.5f;
-    const float floor_x = std::floor(x);
-    int i0, i1;
-    neighbours(floor_x, resolution_, i0, i1);
+    const Neighbours n = neighbours(angle, resolution_);
     const Packed* row = fiber_.data() + size_t(variant) * resolution_;
-    return blend(unpack(row[i0]), unpack(row[i1]), x - floor_x);
+    return blend(unpack(row[n.i0]), unpack(row[n.i1]), n.f);
 }
 
 FiberSample FiberMaps::sample_pair(int a, int b, float angle, float w) const {
     // sample(a, angle) blended into sample(b, angle) by w, the angle wrapped once for both.
-    const float x = wrap_angle(angle) * (resolution_ / (2 * kPi)) - 0.5f;
-    const float floor_x = std::floor(x), f = x - floor_x;
-    int i0, i1;
-    neighbours(floor_x, resolution_, i0, i1);
+    const Neighbours n = neighbours(angle, resolution_);
     const Packed *row_a = fiber_.data() + size_t(a) * resolution_, *row_b = fiber_.data() + size_t(b) * resolution_;
-    return blend(blend(unpack(row_a[i0]), unpack(row_a[i1]), f), blend(unpack(row_b[i0]), unpack(row_b[i1]), f), w);
+    return blend(blend(unpack(row_a[n.i0]), unpack(row_a[n.i1]), n.f), blend(unpack(row_b[n.i0]), unpack(row_b[n.i1]), n.f), w);
 }
 
 int FiberMaps::variant_of(uint32_t key, int64_t cell) const {
@@ -171,12 +170,8 @@ FiberSample FiberMaps::lookup(float angle, float cell_position, uint32_t key, ui
 }
 
 float FiberMaps::ply_shadowing(float azimuth) const {
-    const float x = wrap_angle(azimuth) * (resolution_ / (2 * kPi)) - 0.5f;
-    const float floor_x = std::floor(x);
-    int i0, i1;
-    neighbours(floor_x, resolution_, i0, i1);
-    const float t = x - floor_x;
-    return (ply_[i0] * (1 - t) + ply_[i1] * t) * (1.0f / 65535.0f);
+    const Neighbours n = neighbours(azimuth, resolution_);
+    return (ply_[n.i0] * (1 - n.f) + ply_[n.i1] * n.f) * (1.0f / 65535.0f);
 }
 
 size_t FiberMaps::memory_bytes() const {

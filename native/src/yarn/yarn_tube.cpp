@@ -6,43 +6,6 @@
 namespace purl {
 namespace {
 
-// The centre-line polynomials of the few segments a projection visits (tube_exit projects a
-// handful of points along the ray, mostly within one or two segments): expanded once each
-// instead of at every Newton step. Same numbers as CurveFrames::evaluate_centreline.
-class CentrelineCache {
-public:
-    explicit CentrelineCache(const CurveFrames& frames) : frames_(frames) {
-        for (uint32_t& tag : tags_) tag = kEmpty;
-    }
-    const CurveFrames& frames() const { return frames_; }
-    CurvePoint evaluate_centreline(uint32_t segment, float t) {
-        const uint32_t slot = segment % kSlots;
-        if (tags_[slot] != segment) {
-            slots_[slot] = frames_.expand_centreline(segment);
-            tags_[slot] = segment;
-        }
-        return slots_[slot].evaluate_centreline(t);
-    }
-
-private:
-    static constexpr uint32_t kSlots = 4;
-    static constexpr uint32_t kEmpty = ~0u;
-    const CurveFrames& frames_;
-    uint32_t tags_[kSlots];
-    union {  // left uninitialized: a slot is read only after its tag is set
-        SegmentExpansion slots_[kSlots];
-    };
-};
-
-// The same through a query's CachedCurve (whose full expansions the frame evaluations reuse).
-struct CachedCentreline {
-    const CachedCurve& cache;
-    const CurveFrames& frames() const { return cache.frames(); }
-    CurvePoint evaluate_centreline(uint32_t segment, float t) const {
-        return cache.segment_expansion(segment).evaluate_centreline(t);
-    }
-};
-
 // Newton on f(s) = (C(s) - x).T(s), f'(s) = 1 + (C - x).dT/ds, in arc length; returns the
 // centre-line point without its frame.
 struct Projected {
@@ -84,7 +47,7 @@ Projected project(Curve& curve, Vec3 x, uint32_t segment, float t, int max_steps
 
 // Signed distance of x outside the tube (negative inside); `at` moves from the previous
 // projection (whose centre-line point is reused) to x's.
-float outside_distance(CentrelineCache& frames, Vec3 x, Projected& at) {
+float outside_distance(CachedCentreline& frames, Vec3 x, Projected& at) {
     at = project_from(frames, x, at.segment, at.t, at.c, 6);
     return length(x - at.c.position) - at.c.radius;
 }
@@ -101,7 +64,7 @@ float cylinder_exit(const CurvePoint& c, Vec3 point, Vec3 direction) {
 }
 
 // Regula falsi (Illinois) inside the bracket h(lo) <= 0 < h(hi).
-TubeExit illinois(CentrelineCache& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
+TubeExit illinois(CachedCentreline& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
                   float h_lo, float h_hi, Projected at) {
     float h = 0;
     int side = 0;
@@ -137,8 +100,7 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
 
 CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
                                            int max_steps) {
-    CachedCentreline curve{frames};
-    const Projected p = project(curve, x, segment, t, max_steps);
+    const Projected p = project(frames, x, segment, t, max_steps);
     CentrelineProjection r;
     r.segment = p.segment;
     r.t = p.t;
@@ -150,7 +112,7 @@ CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, ui
 
 namespace {
 
-TubeExit exit_from(CentrelineCache& frames, const Projected& start, Vec3 point, Vec3 direction) {
+TubeExit exit_from(CachedCentreline& frames, const Projected& start, Vec3 point, Vec3 direction) {
     const CurvePoint& c = start.c;
     const float radius = std::max(c.radius, 1e-30f);
 
@@ -221,12 +183,12 @@ float tube_chord_length(const CurveFrames& frames, uint32_t segment, float t, Ve
 }
 
 TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 point, Vec3 direction) {
-    CentrelineCache curve(frames);
+    CachedCentreline curve(frames);
     return exit_from(curve, project(curve, point, segment, t, 6), point, direction);
 }
 
 TubeExit tube_exit(const CurveFrames& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction) {
-    CentrelineCache curve(frames);
+    CachedCentreline curve(frames);
     // A converged projection of `point` is where the projection below would stop at once.
     const Projected p = start.converged ? Projected{start.segment, start.t, start.point, true}
                                         : project(curve, point, start.segment, start.t, 6);
