@@ -10,6 +10,15 @@
 //                     pass-through the next tube trace from the exit, as the renderer does
 //   BM_ClothExplicit  Embree: the same ray against every ply of the cloth as its own curve
 //                     (make_explicit_scene, the renderer's "ply" model): the first ply hit
+//   BM_ClothShared    a lower bound of what any implicit query must do besides its ply search:
+//                     project the tube hit onto the centre-line and shade the ply hit the exact
+//                     query found (fiber maps, shading frame); the hit's own frame and
+//                     coordinates are left out
+//   BM_ClothToShadingImplicit / BM_ClothToShadingExplicit  the renderer's way from the camera
+//                     ray to its first scattering point, near field: Embree against the tubes
+//                     and SurfaceShader::shade (the query, on through pass-throughs), or Embree
+//                     against the explicit plies and the same shader on the ply hit (the ply's
+//                     frame, its yarn cross-section, fiber maps)
 // Argument: scene (0 glove_close, 1 glove_far, 2 knit_tube). Rays: camera rays through random
 // film positions that meet a yarn tube, prepared outside the timed loop. Counters: Embree bytes
 // of each scene and the share of queries that pass between the plies.
@@ -25,6 +34,7 @@
 #include "reference/explicit_sampling.h"
 #include "render/camera.h"
 #include "render/shading.h"
+#include "yarn/yarn_tube.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
 #include "yarn/yarn_shading_point.h"
@@ -43,6 +53,8 @@ struct ClothSetup {
     std::vector<std::unique_ptr<FiberMaps>> maps;  // per yarn set
     std::vector<Ray> rays;
     std::vector<SurfaceHit> hits;  // each ray's tube hit
+    std::vector<PlyHit> ply_hits;  // the exact query's ply hit for each
+    std::unique_ptr<SurfaceShader> tube_shader, ply_shader;
 
     explicit ClothSetup(const std::string& name)
         : scene(load_scene_file(std::string(PURL_SOURCE_DIR) + "/bench/scenes/" + name + ".json")),
@@ -61,7 +73,30 @@ struct ClothSetup {
             if (!tubes->intersect(ray, hit) || hit.kind != SurfaceKind::Yarn) continue;
             rays.push_back(ray);
             hits.push_back(hit);
+            const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
+            ply_hits.push_back(trace_plies(frames[hit.object][hit.curve], scene.yarns[hit.object].material.yarn, tube_hit));
         }
+        tube_shader = std::make_unique<SurfaceShader>(scene);
+        ply_shader = std::make_unique<SurfaceShader>(explicit_scene);
+    }
+
+    // The renderer's first scattering point of a camera ray, near field; false when it leaves.
+    bool to_shading(Ray ray, bool explicit_plies) const {
+        const EmbreeScene& geometry = explicit_plies ? *plies : *tubes;
+        const SurfaceShader& shader = explicit_plies ? *ply_shader : *tube_shader;
+        for (int k = 0; k <= kMaxPassThroughs; ++k) {
+            SurfaceHit hit;
+            if (!geometry.intersect(ray, hit)) return false;
+            const SurfaceInteraction s = shader.shade(hit, ray);
+            if (!s.pass_through) {
+                benchmark::DoNotOptimize(s);
+                return true;
+            }
+            const float advance = hit.t + s.continue_distance + ray_offset(hit.position, hit.radius);
+            ray.origin = ray.at(advance);
+            ray.tmax = std::max(0.0f, ray.tmax - advance);
+        }
+        return false;
     }
 
     YarnShadingPoint query(const Ray& ray, const SurfaceHit& hit, PlyCrossSection method) const {
@@ -138,12 +173,38 @@ void BM_ClothFirstPly(benchmark::State& state) {
     label(state, s);
 }
 
+void BM_ClothShared(benchmark::State& state) {
+    ClothSetup& s = setup(static_cast<int>(state.range(0)));
+    size_t i = 0;
+    for (auto _ : state) {
+        const size_t k = i++ % s.rays.size();
+        const SurfaceHit& hit = s.hits[k];
+        const CurveFrames& frames = s.frames[hit.object][hit.curve];
+        const YarnDescription& yarn = s.scene.yarns[hit.object].material.yarn;
+        benchmark::DoNotOptimize(project_to_centreline(frames, hit.position, hit.segment, hit.u));
+        benchmark::DoNotOptimize(shade_ply_hit(s.ply_hits[k], frames, yarn, *s.maps[hit.object], hit.curve));
+    }
+    label(state, s);
+}
+
+void to_shading(benchmark::State& state, bool explicit_plies) {
+    ClothSetup& s = setup(static_cast<int>(state.range(0)));
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(s.to_shading(s.rays[i++ % s.rays.size()], explicit_plies));
+    label(state, s);
+}
+void BM_ClothToShadingImplicit(benchmark::State& state) { to_shading(state, false); }
+void BM_ClothToShadingExplicit(benchmark::State& state) { to_shading(state, true); }
+
 BENCHMARK(BM_ClothTube)->DenseRange(0, 2);
 BENCHMARK(BM_ClothQuery)->DenseRange(0, 2);
 BENCHMARK(BM_ClothLocal)->DenseRange(0, 2);
 BENCHMARK(BM_ClothCircular)->DenseRange(0, 2);
 BENCHMARK(BM_ClothFirstPly)->DenseRange(0, 2);
 BENCHMARK(BM_ClothExplicit)->DenseRange(0, 2);
+BENCHMARK(BM_ClothShared)->DenseRange(0, 2);
+BENCHMARK(BM_ClothToShadingImplicit)->DenseRange(0, 2);
+BENCHMARK(BM_ClothToShadingExplicit)->DenseRange(0, 2);
 
 }  // namespace
 }  // namespace purl
