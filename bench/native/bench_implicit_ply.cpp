@@ -7,6 +7,9 @@
 //   BM_Local           trace_yarn_hit with the local method (yarn straightened at the hit)
 //   BM_LocalPlies      trace_plies only (local)
 //   BM_Circular        trace_plies with the circular cross-section (the older method)
+//   BM_Shared          a lower bound of what any implicit query does besides its ply search: the
+//                      centre-line projection of the tube hit and the fiber maps/shading frame of
+//                      the exact method's ply hit (prepared); the hit's own frame is left out
 //   BM_EmbreeTube      Embree ray against the yarn's round B-spline curve (what precedes BM_Implicit)
 //   BM_EmbreePlies     Embree ray against every ply as its own round B-spline curve (ply-based model)
 //   BM_ExactPlies      our exact explicit reference (sphere tracing; accuracy first)
@@ -44,6 +47,7 @@ struct Setup {
     FiberMaps maps;
     ExplicitPlies plies;
     std::vector<YarnTubeHit> hits;
+    std::vector<PlyHit> ply_hits;  // the exact method's answer for each of `hits`
     RTCDevice device = nullptr;
     RTCScene tube_scene = nullptr, ply_scene = nullptr;
 
@@ -79,6 +83,7 @@ struct Setup {
             const ExplicitHit tube = plies.intersect_tube(origin, dir, 0, 60);
             if (tube.hit) hits.push_back({origin, dir, tube.point, tube.segment, tube.t});
         }
+        for (const YarnTubeHit& h : hits) ply_hits.push_back(trace_plies(frames, description, h));
     }
     ~Setup() {
         rtcReleaseScene(tube_scene);
@@ -157,6 +162,17 @@ void plies_only(benchmark::State& state, PlyCrossSection method) {
 void BM_ImplicitPlies(benchmark::State& state) { plies_only(state, PlyCrossSection::elliptical); }
 void BM_LocalPlies(benchmark::State& state) { plies_only(state, PlyCrossSection::local); }
 void BM_Circular(benchmark::State& state) { plies_only(state, PlyCrossSection::circular); }
+
+void BM_Shared(benchmark::State& state) {
+    Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+    size_t i = 0;
+    for (auto _ : state) {
+        const size_t k = i++ % kRays;
+        const YarnTubeHit& h = s.hits[k];
+        benchmark::DoNotOptimize(project_to_centreline(s.frames, h.point, h.segment, h.t));
+        benchmark::DoNotOptimize(shade_ply_hit(s.ply_hits[k], s.frames, s.description, s.maps, 3));
+    }
+}
 
 void BM_EmbreeTube(benchmark::State& state) {
     Setup& s = setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
@@ -247,6 +263,7 @@ BENCHMARK(BM_ImplicitPlies)->Apply(arguments);
 BENCHMARK(BM_Local)->Apply(arguments);
 BENCHMARK(BM_LocalPlies)->Apply(arguments);
 BENCHMARK(BM_Circular)->Apply(arguments);
+BENCHMARK(BM_Shared)->Apply(arguments);
 BENCHMARK(BM_EmbreeTube)->Apply(arguments);
 BENCHMARK(BM_EmbreePlies)->Apply(arguments);
 BENCHMARK(BM_ExactPlies)->Apply(arguments);
