@@ -130,6 +130,9 @@ PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t 
 PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, const CentrelineProjection& at) {
     return pass_through(hit, tube_exit(frames, at, hit.point, hit.direction).distance);
 }
+PlyHit pass_through(const CachedCurve& frames, const YarnTubeHit& hit, const CentrelineProjection& at) {
+    return pass_through(hit, tube_exit(frames, at, hit.point, hit.direction).distance);
+}
 
 // A ray passing this close (in tolerances) outside a ply still touches it: the explicit
 // reference counts a hit within 1e-5 R of the surface.
@@ -269,7 +272,8 @@ struct LocalYarn {
 
     Vec3 local(Vec3 v) const { return {dot(v, ex), dot(v, ey), dot(v, ez)}; }
 
-    PlyPoly ply(int i, int j) const {
+    // Ply i over piece j, written in place (a returned copy of ~200 bytes showed in the profile).
+    void ply(int i, int j, PlyPoly& out) const {
         const Piece& q = piece[j];
         const float cp = cos_offset[i], sp = sin_offset[i];
         float c[3][6];
@@ -279,7 +283,6 @@ struct LocalYarn {
             c[1][k] = v.y;
             c[2][k] = v.z;
         }
-        PlyPoly out;
         out.x.set(c[0]);
         out.y.set(c[1]);
         out.z.set(c[2]);
@@ -288,14 +291,13 @@ struct LocalYarn {
         out.r0 = ply_radius * q.r0;
         out.dr = ply_radius * (q.r1 - q.r0);
         out.piece = j;
-        return out;
     }
     // Curve parameter at arc length s, from piece j's map (extrapolated a little past its ends).
     double g(int j, float s) const { return piece[j].g((s - piece[j].s0) * piece[j].inv_h); }
 };
 
-Knot make_knot(const CurvePoint& c, double g, float s, const LocalYarn& m) {
-    Knot k;
+// Written in place: a query's knots are slots of an array.
+void make_knot(const CurvePoint& c, double g, float s, const LocalYarn& m, Knot& k) {
     k.g = g;
     k.s = s;
     k.inv_speed = 1.0f / std::max(c.speed, 1e-30f);
@@ -314,7 +316,6 @@ Knot make_knot(const CurvePoint& c, double g, float s, const LocalYarn& m) {
     const float kn = dot(c.curvature, c.normal), kb = dot(c.curvature, c.binormal);
     k.w1r = k.t * -(kn * k.co + kb * k.si);
     k.w1i = k.t * -(kn * k.si - kb * k.co);
-    return k;
 }
 
 // A = a W and its first two derivatives at a knot, for a ply distance a changing at da per m;
@@ -468,7 +469,7 @@ struct PiecePlies {
     }
     const PlyPoly& operator[](int i) {
         if (!(built >> i & 1)) {
-            items[i] = model->ply(i, piece);
+            model->ply(i, piece, items[i]);
             built |= 1u << i;
         }
         return items[i];
@@ -576,8 +577,8 @@ struct ModelCandidate {
 ModelPoint model_at(const LocalYarn& m, int ply, PlyPoly& q, float s) {
     for (int hop = 0; hop < kMaxPieces; ++hop) {
         const float v = (s - q.s0) * q.inv_h;
-        if (v < 0 && q.piece > m.built_lo) q = m.ply(ply, q.piece - 1);
-        else if (v > 1 && q.piece < m.built_hi) q = m.ply(ply, q.piece + 1);
+        if (v < 0 && q.piece > m.built_lo) m.ply(ply, q.piece - 1, q);
+        else if (v > 1 && q.piece < m.built_hi) m.ply(ply, q.piece + 1, q);
         else break;
     }
     return q.at(s);
@@ -591,7 +592,7 @@ ModelPoint model_at(const LocalYarn& m, int ply, PlyPoly& q, float s) {
 float model_entry(const LocalYarn& m, int ply, PlyPoly& q, float approach, float tolerance, int refinements,
                   float max_shift, float& s, float& cos_incidence, bool& trusted) {
     const float crossing = s;
-    const PlyPoly start = q;
+    const int start_piece = q.piece;
     ModelPoint p = q.at(s);
     const Vec3 o(0.0f), z(0, 0, 1);
     float enter, leave;
@@ -609,9 +610,9 @@ float model_entry(const LocalYarn& m, int ply, PlyPoly& q, float approach, float
     }
     const float v = (s - q.s0) * q.inv_h;
     trusted = v > -0.25f && v < 1.25f;
-    if (!trusted) {
+    if (!trusted) {  // back to the crossing's piece, rebuilt (rare) rather than copied (every entry)
         s = crossing;
-        q = start;
+        if (q.piece != start_piece) m.ply(ply, start_piece, q);
     }
     const Vec3 axis = normalize(p.d);
     Vec3 radial = z * lambda - p.p;
@@ -805,7 +806,7 @@ struct Stretch {
     float exit_distance;  // on bends, where the ray leaves the tube (m from the entry); else -1
 };
 
-Stretch ray_stretch(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
+Stretch ray_stretch(const CachedCurve& frames, const YarnDescription& d, const YarnTubeHit& hit,
                     const CentrelineProjection& at, float tan_psi) {
     const CurvePoint& c = at.point;
     const float radius = c.radius;
@@ -918,7 +919,7 @@ private:
             while (s < knots_[j - 1].s) s += total;
         else if (frames_.closed() && j < m_.pieces && have_[j + 1])
             while (s > knots_[j + 1].s) s -= total;
-        knots_[j] = make_knot(k, g, s, m_);
+        make_knot(k, g, s, m_, knots_[j]);
         have_[j] = true;
         return knots_[j];
     }
@@ -1057,19 +1058,19 @@ private:
 };
 
 // `frames` caches the few segments the ray's stretch spans (expanded once for the projection,
-// the knots and the exact refinements); `at` is the projection of the tube entry.
+// the knots and the exact refinements); `at` is the projection of the tube entry, without its
+// frame (only the circular fallback needs that).
 PlyHit trace_elliptical(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw,
                         const YarnTubeHit& hit, const CentrelineProjection& at, const PlyTraceOptions& options) {
-    const CurveFrames& yarn_frames = frames.frames();
     const CurvePoint& c = at.point;
     const Vec3 across = cross(c.tangent, hit.direction);
     const float across_length = length(across);
-    if (across_length < 1e-4f) return pass_through(yarn_frames, hit, at);
+    if (across_length < 1e-4f) return pass_through(frames, hit, at);
     const float radius = c.radius;
     const float along = dot(hit.direction, c.tangent);
-    const Stretch stretch = ray_stretch(yarn_frames, d, hit, at, std::fabs(along) / across_length);
+    const Stretch stretch = ray_stretch(frames, d, hit, at, std::fabs(along) / across_length);
     if (!(stretch.s_hi - stretch.s_lo > 1e-6f * radius))
-        return stretch.exit_distance >= 0 ? pass_through(hit, stretch.exit_distance) : pass_through(yarn_frames, hit, at);
+        return stretch.exit_distance >= 0 ? pass_through(hit, stretch.exit_distance) : pass_through(frames, hit, at);
 
     ModelSearch search(frames, d, tw, hit, stretch, radius, options);
     search.run(normalize(cross(hit.direction, across / across_length)), along >= 0);
@@ -1126,20 +1127,24 @@ PlyHit trace_elliptical(const CachedCurve& frames, const YarnDescription& d, con
     }
 
     // Fallback: a ply whose crossing did not converge is taken as the circular method sees it,
-    // at the tube hit's cross-section.
-    for (int ply = 0; ply < m.plies; ++ply) {
-        if (!(search.unconverged_mask >> ply & 1)) continue;
-        Candidate cand{ply, cut_at_hit(at, d, tw, ply)};
-        Vec3 normal;
-        if (!circular_cut_hit(hit, at, cand.cut.centre, cand.enter, normal)) continue;
-        crossed_mask |= 1u << ply;
-        if (!found || cand.enter < best.enter) best = cand;
-        found = true;
+    // at the tube hit's cross-section (with the frame there, which `at` lacks).
+    if (search.unconverged_mask != 0) {
+        CentrelineProjection framed = at;
+        framed.point = frames.evaluate(at.segment, at.t);
+        for (int ply = 0; ply < m.plies; ++ply) {
+            if (!(search.unconverged_mask >> ply & 1)) continue;
+            Candidate cand{ply, cut_at_hit(framed, d, tw, ply)};
+            Vec3 normal;
+            if (!circular_cut_hit(hit, framed, cand.cut.centre, cand.enter, normal)) continue;
+            crossed_mask |= 1u << ply;
+            if (!found || cand.enter < best.enter) best = cand;
+            found = true;
+        }
     }
 
     PlyHit h = found ? finish_hit(best, hit.point + hit.direction * std::max(best.enter, 0.0f), tw, hit)
                      : stretch.exit_distance >= 0 ? pass_through(hit, stretch.exit_distance)
-                                                  : pass_through(yarn_frames, hit, at);
+                                                  : pass_through(frames, hit, at);
     if (found) h.plies_crossed = __builtin_popcount(crossed_mask);
     h.iterations = evaluations;
     h.max_ply_iterations = worst;
@@ -1178,6 +1183,15 @@ struct LocalHelices {
     Vec3 ray;                                  // unit ray direction
     float nk = 0, bk = 0;                      // N.kappa, B.kappa
     float offset = 0, ply_radius = 0, rate = 0, phase = 0;  // ply distance (m), radius (m), rad/m, ply 0 at s = 0
+    // The same seen along the ray, in coordinates across it (normal and binormal times the ply
+    // distance): all a scan node needs, at two thirds of the work.
+    Vec2 c_across, tangent_across, kappa_across, normal_across, binormal_across;
+    void set_across(Vec3 u) {
+        const Vec3 v = cross(ray, u);
+        const auto across = [&](Vec3 x) { return Vec2(dot(x, u), dot(x, v)); };
+        c_across = across(c), tangent_across = across(tangent), kappa_across = across(kappa);
+        normal_across = across(normal * offset), binormal_across = across(binormal * offset);
+    }
 
     // Ply centre relative to the tube entry (w), its derivatives in s (w1, w2), given the cosine
     // and sine of the ply's phase at s.
@@ -1207,13 +1221,14 @@ struct LocalHelices {
     }
 };
 
-// The crossing in [lo, hi] (f(lo) < 0 <= f(hi)): Newton steps kept inside the bracket.
+// The crossing in [lo, hi] (f(lo) < 0 <= f(hi)): Newton steps kept inside the bracket. w and
+// w1 there: once converged, the last evaluation's carried over the last step to first order.
 float local_crossing(const LocalHelices& m, int ply, int plies, float lo, float hi, float f_lo, float f_hi,
-                     float tolerance) {
+                     float tolerance, Vec3& w, Vec3& w1) {
     float s = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
     for (int step = 0; step < 8; ++step) {
         float cp, sp, slope;
-        Vec3 w, w1, w2;
+        Vec3 w2;
         m.phase_at(ply, plies, s, cp, sp);
         m.at(s, cp, sp, w, w1, &w2);
         const float f = m.crossing(w, w1, &w2, &slope);
@@ -1221,10 +1236,17 @@ float local_crossing(const LocalHelices& m, int ply, int plies, float lo, float 
         else hi = s;
         float next = slope > 0 ? s - f / slope : 0.5f * (lo + hi);
         if (!(next > lo && next < hi)) next = 0.5f * (lo + hi);
-        const bool done = std::fabs(next - s) < tolerance;
+        const float ds = next - s;
         s = next;
-        if (done) break;
+        if (std::fabs(ds) < tolerance) {
+            w += w1 * ds;
+            w1 += w2 * ds;
+            return s;
+        }
     }
+    float cp, sp;
+    m.phase_at(ply, plies, s, cp, sp);
+    m.at(s, cp, sp, w, w1, nullptr);
     return s;
 }
 
@@ -1318,29 +1340,39 @@ struct LocalNode {
     float s, f, miss, pace;  // arc length, crossing function, distance from the ray (m), |w1 across the ray|
 };
 
+// LocalHelices::at across the ray.
 LocalNode local_node(const LocalHelices& m, int ply, int plies, float s) {
     float cp, sp;
-    Vec3 w, w1;
     m.phase_at(ply, plies, s, cp, sp);
-    m.at(s, cp, sp, w, w1, nullptr);
-    const float w1z = dot(w1, m.ray);
-    return {s, m.crossing(w, w1), std::sqrt(std::max(m.miss2(w), 0.0f)),
-            std::sqrt(std::max(dot(w1, w1) - w1z * w1z, 0.0f))};
+    const Vec2 out = m.normal_across * cp + m.binormal_across * sp;
+    const Vec2 around = m.binormal_across * cp - m.normal_across * sp;
+    const float lean = 1 - m.offset * (m.nk * cp + m.bk * sp), turn = m.offset * m.rate * (m.bk * cp - m.nk * sp);
+    const Vec2 w = m.c_across + m.kappa_across * (0.5f * s * s) + out + m.tangent_across * (s * lean);
+    const Vec2 w1 = m.kappa_across * s + around * m.rate + m.tangent_across * (lean - s * turn);
+    return {s, dot(w, w1), length(w), length(w1)};
 }
 
-// Calls visit(s) for every closest approach of ply `ply` to the ray in [s_lo, s_hi] that may
-// be within its radius, and for a stretch end where the ply is within reach moving away
-// (start) or toward the ray (end). The ply's distance to the ray changes by at most
-// `speed_bound` per m of s and its second derivative is at most `bend_bound`: an interval is
-// skipped when the ply cannot come within reach, solved when f changes sign, and split only
-// when f is not provably monotone there (f' = |w1_perp|^2 + w_perp.w2_perp), where a pair of
-// roots could hide between the nodes.
+// Calls visit(s, w, w1) (ply centre relative to the tube entry, its derivative) for every
+// closest approach of ply `ply` to the ray in [s_lo, s_hi] that may be within its radius, and
+// for a stretch end where the ply is within reach moving away (start) or toward the ray (end).
+// The ply's distance to the ray changes by at most `speed_bound` per m of s and its second
+// derivative is at most `bend_bound`, which bounds f' = |w1_perp|^2 + w_perp.w2_perp: an
+// interval is skipped when the ply cannot come within reach at a root of f, solved when f
+// changes sign, and split only when f's slope bounds leave room for a pair of roots to hide
+// between the nodes.
 template <class Visit>
 void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, float s_hi, int steps, float speed_bound,
                       float bend_bound, float tolerance, const Visit& visit) {
     const float h = (s_hi - s_lo) / steps, finest = 0.25f * m.ply_radius / speed_bound;
+    const auto visit_end = [&](float s) {
+        float cp, sp;
+        Vec3 w, w1;
+        m.phase_at(ply, plies, s, cp, sp);
+        m.at(s, cp, sp, w, w1, nullptr);
+        visit(s, w, w1);
+    };
     LocalNode prev = local_node(m, ply, plies, s_lo);
-    if (prev.f >= 0 && prev.miss <= m.ply_radius) visit(s_lo);
+    if (prev.f >= 0 && prev.miss <= m.ply_radius) visit_end(s_lo);
     for (int k = 1; k <= steps; ++k) {
         const LocalNode next = local_node(m, ply, plies, k == steps ? s_hi : s_lo + h * k);
         LocalNode stack[24][2];
@@ -1350,13 +1382,31 @@ void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, flo
             const LocalNode a = stack[--depth][0], b = stack[depth][1];
             const float width = b.s - a.s;
             if (0.5f * (a.miss + b.miss - speed_bound * width) > m.ply_radius) continue;
+            // f, the slope of miss^2 / 2, has its own slope f' in [-fall, rise].
+            const float slowest = std::max(std::min(a.pace, b.pace) - 0.5f * bend_bound * width, 0.0f);
+            const float fastest = std::max(a.pace, b.pace) + 0.5f * bend_bound * width;
+            const float far = std::max(a.miss, b.miss) + 0.5f * speed_bound * width;
+            const float fall = far * bend_bound - slowest * slowest, rise = far * bend_bound + fastest * fastest;
+            // At a root x of f, miss^2 >= miss(a)^2 - rise (x - a)^2 (likewise from b): the
+            // least such bound over the interval, where both agree, must be within visit's reach.
+            if (rise > 0) {
+                const float from_a =
+                    clamp(0.5f * width + 0.5f * (sqr(a.miss) - sqr(b.miss)) / (rise * width), 0.0f, width);
+                if (std::max(sqr(a.miss) - rise * sqr(from_a), sqr(b.miss) - rise * sqr(width - from_a)) >
+                    sqr(m.ply_radius + kGraze * tolerance))
+                    continue;
+            }
             if (a.f < 0 && b.f >= 0) {
-                visit(local_crossing(m, ply, plies, a.s, b.s, a.f, b.f, 10 * tolerance));  // refined at the entry
+                Vec3 w, w1;
+                const float s = local_crossing(m, ply, plies, a.s, b.s, a.f, b.f, 10 * tolerance, w, w1);
+                visit(s, w, w1);  // refined at the entry
                 continue;
             }
-            const float pace = std::min(a.pace, b.pace) - 0.5f * bend_bound * width;
-            const float far = std::max(a.miss, b.miss) + 0.5f * speed_bound * width;
-            if (pace > 0 && pace * pace > far * bend_bound) continue;  // monotone: no hidden pair
+            // A hidden rising root needs f to fall from a.f below zero or to b.f from above
+            // it, and to rise from a.f or to b.f: skipped when the interval is too short for that.
+            const float descent = std::max(a.f, 0.0f) + std::max(-b.f, 0.0f);
+            const float ascent = std::max(-a.f, 0.0f) + std::max(b.f, 0.0f);
+            if (fall < 0 || descent * rise + ascent * fall > width * fall * rise) continue;
             if (width < finest || depth + 2 > 24) continue;
             const LocalNode mid = local_node(m, ply, plies, 0.5f * (a.s + b.s));
             stack[depth][0] = mid, stack[depth++][1] = b;  // the nearer half is examined first
@@ -1364,7 +1414,7 @@ void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, flo
         }
         prev = next;
     }
-    if (prev.f < 0 && prev.miss <= m.ply_radius) visit(s_hi);
+    if (prev.f < 0 && prev.miss <= m.ply_radius) visit_end(s_hi);
 }
 
 // at_entry: `at` is the projection of the tube entry itself (else of a point near it), so a
@@ -1393,6 +1443,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
     m.phase = ply_phase(tw, c.arc_length);
     const int plies = std::max(1, d.plies());
     m.set_offsets(plies);
+    m.set_across(across / across_length);
 
     // The stretch the ray crosses: the straight tube's chord from the entry (which may lie off
     // the modelled cross-section along the yarn), widened by how far a ply's cut reaches along
@@ -1435,11 +1486,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
     int count = 0;
     uint32_t crossed = 0;
     for (int ply = 0; ply < plies && ply < 32; ++ply) {
-        const auto visit = [&](float sc) {
-            float cp, sp;
-            Vec3 w, w1;
-            m.phase_at(ply, plies, sc, cp, sp);
-            m.at(sc, cp, sp, w, w1, nullptr);
+        const auto visit = [&](float sc, const Vec3& w, const Vec3& w1) {
             const float miss2 = m.miss2(w);
             if (miss2 > sqr(m.ply_radius + kGraze * tolerance) || count == 64) return;
             crossed |= 1u << ply;
@@ -1496,8 +1543,8 @@ PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const Ya
         default: {
             // One cache of segment expansions for the whole query, starting with the projection's.
             const CachedCurve cache(frames);
-            return trace_elliptical(cache, d, tw, hit, project_to_centreline(cache, hit.point, hit.segment, hit.t),
-                                    options);
+            return trace_elliptical(cache, d, tw, hit,
+                                    project_to_centreline_unframed(cache, hit.point, hit.segment, hit.t), options);
         }
     }
 }

@@ -47,7 +47,8 @@ Projected project(Curve& curve, Vec3 x, uint32_t segment, float t, int max_steps
 
 // Signed distance of x outside the tube (negative inside); `at` moves from the previous
 // projection (whose centre-line point is reused) to x's.
-float outside_distance(CachedCentreline& frames, Vec3 x, Projected& at) {
+template <class Curve>
+float outside_distance(Curve& frames, Vec3 x, Projected& at) {
     at = project_from(frames, x, at.segment, at.t, at.c, 6);
     return length(x - at.c.position) - at.c.radius;
 }
@@ -64,7 +65,8 @@ float cylinder_exit(const CurvePoint& c, Vec3 point, Vec3 direction) {
 }
 
 // Regula falsi (Illinois) inside the bracket h(lo) <= 0 < h(hi).
-TubeExit illinois(CachedCentreline& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
+template <class Curve>
+TubeExit illinois(Curve& frames, Vec3 point, Vec3 direction, float radius, float lo, float hi,
                   float h_lo, float h_hi, Projected at) {
     float h = 0;
     int side = 0;
@@ -100,11 +102,18 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
 
 CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
                                            int max_steps) {
+    CentrelineProjection r = project_to_centreline_unframed(frames, x, segment, t, max_steps);
+    r.point = frames.evaluate(r.segment, r.t);  // the same centre-line point, with its frame
+    return r;
+}
+
+CentrelineProjection project_to_centreline_unframed(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
+                                                    int max_steps) {
     const Projected p = project(frames, x, segment, t, max_steps);
     CentrelineProjection r;
     r.segment = p.segment;
     r.t = p.t;
-    r.point = frames.evaluate(p.segment, p.t);
+    r.point = p.c;
     r.distance = length(x - r.point.position);
     r.converged = p.converged;
     return r;
@@ -112,7 +121,8 @@ CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, ui
 
 namespace {
 
-TubeExit exit_from(CachedCentreline& frames, const Projected& start, Vec3 point, Vec3 direction) {
+template <class Curve>
+TubeExit exit_from(Curve& frames, const Projected& start, Vec3 point, Vec3 direction) {
     const CurvePoint& c = start.c;
     const float radius = std::max(c.radius, 1e-30f);
 
@@ -187,12 +197,25 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
     return exit_from(curve, project(curve, point, segment, t, 6), point, direction);
 }
 
-TubeExit tube_exit(const CurveFrames& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction) {
-    CachedCentreline curve(frames);
+namespace {
+
+template <class Curve>
+TubeExit exit_from_projection(Curve& curve, const CentrelineProjection& start, Vec3 point, Vec3 direction) {
     // A converged projection of `point` is where the projection below would stop at once.
     const Projected p = start.converged ? Projected{start.segment, start.t, start.point, true}
                                         : project(curve, point, start.segment, start.t, 6);
     return exit_from(curve, p, point, direction);
+}
+
+}  // namespace
+
+TubeExit tube_exit(const CurveFrames& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction) {
+    CachedCentreline curve(frames);
+    return exit_from_projection(curve, start, point, direction);
+}
+
+TubeExit tube_exit(const CachedCurve& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction) {
+    return exit_from_projection(frames, start, point, direction);
 }
 
 }  // namespace purl

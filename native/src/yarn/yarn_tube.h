@@ -23,6 +23,10 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
 // expands are then at hand for the query's later evaluations).
 CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
                                            int max_steps = 8);
+// The same without the frame: `point` is the centre-line point the last Newton step already
+// evaluated (its normal, binormal and arc length are left zero), which saves one evaluation.
+CentrelineProjection project_to_centreline_unframed(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
+                                                    int max_steps = 8);
 
 // Distance (m) from `point`, inside or on the tube, along unit `direction` to where the ray
 // leaves the tube. (segment, t) is a centre-line parameter near `point`. Exact for a straight
@@ -40,5 +44,8 @@ TubeExit tube_exit(const CurveFrames& frames, uint32_t segment, float t, Vec3 po
 // The same from a projection of `point` onto the centre-line already at hand (project_to_centreline
 // of `point`; when converged, the exit search starts from it without projecting again).
 TubeExit tube_exit(const CurveFrames& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction);
+// The same through a query's cache of segment expansions (the same numbers; the segments the
+// query has expanded already are not expanded again).
+TubeExit tube_exit(const CachedCurve& frames, const CentrelineProjection& start, Vec3 point, Vec3 direction);
 
 }  // namespace purl
