@@ -5,7 +5,7 @@
 //   BM_ClothTube      Embree: the camera ray against the yarn tubes of the whole cloth
 //   BM_ClothQuery     the implicit query at that tube hit (plies + fiber maps), exact method
 //   BM_ClothLocal     the same query with the local method
-//   BM_ClothCircular  the same query with the circular cross-section (the floor: one projection)
+//   BM_ClothCircular  the same query with the circular cross-section (one circle per ply, no search)
 //   BM_ClothFirstPly  the implicit pipeline to the first ply hit: tube trace, query, and on a
 //                     pass-through the next tube trace from the exit, as the renderer does
 //   BM_ClothExplicit  Embree: the same ray against every ply of the cloth as its own curve

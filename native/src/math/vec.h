@@ -69,5 +69,11 @@ struct Vec4 {
 inline float clamp(float v, float lo, float hi) { return std::min(hi, std::max(lo, v)); }
 inline float safe_sqrt(float v) { return std::sqrt(std::max(0.0f, v)); }
 inline float sqr(float v) { return v * v; }
+// An angle in [0, 2 pi) (a value that rounds up to 2 pi becomes 0).
+inline float wrap_angle(float a) {
+    if (!(std::fabs(a) < 2 * kPi)) a = std::fmod(a, 2 * kPi);  // fmod would return a as it is
+    if (a < 0) a += 2 * kPi;
+    return a >= 2 * kPi ? 0.0f : a;
+}
 
 }  // namespace purl

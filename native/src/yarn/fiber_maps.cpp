@@ -9,11 +9,6 @@
 namespace purl {
 namespace {
 
-float wrap_angle(float a) {
-    if (!(std::fabs(a) < 2 * kPi)) a = std::fmod(a, 2 * kPi);  // fmod would return a as it is
-    return a < 0 ? a + 2 * kPi : a;
-}
-
 // The angle half-way (by t) from a to b along the shorter arc.
 float lerp_angle(float a, float b, float t) {
     float d = b - a;

@@ -8,12 +8,6 @@
 namespace purl {
 namespace {
 
-float wrap_angle(float a) {
-    if (!(std::fabs(a) < 2 * kPi)) a = std::fmod(a, 2 * kPi);  // fmod would return a as it is
-    if (a < 0) a += 2 * kPi;
-    return a >= 2 * kPi ? 0.0f : a;
-}
-
 // Ray (from the tube entry) against an infinite cylinder; false when it misses.
 bool intersect_cylinder(Vec3 origin, Vec3 direction, Vec3 axis_point, Vec3 axis, float radius, float& enter,
                         float& leave) {
