@@ -34,10 +34,10 @@
 #include "reference/explicit_sampling.h"
 #include "render/camera.h"
 #include "render/shading.h"
-#include "yarn/yarn_tube.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
 #include "yarn/yarn_shading_point.h"
+#include "yarn/yarn_tube.h"
 
 namespace purl {
 namespace {
@@ -92,9 +92,7 @@ struct ClothSetup {
                 benchmark::DoNotOptimize(s);
                 return true;
             }
-            const float advance = hit.t + s.continue_distance + ray_offset(hit.position, hit.radius);
-            ray.origin = ray.at(advance);
-            ray.tmax = std::max(0.0f, ray.tmax - advance);
+            continue_past(ray, hit, s.continue_distance);
         }
         return false;
     }
@@ -107,6 +105,13 @@ struct ClothSetup {
                               *maps[hit.object], tube_hit, hit.curve, options);
     }
 
+    // A ray that passed between the plies goes on from where it leaves the tube, as the renderer's does.
+    static void continue_past(Ray& ray, const SurfaceHit& hit, float exit_distance) {
+        const float advance = hit.t + exit_distance + ray_offset(hit.position, hit.radius);
+        ray.origin = ray.at(advance);
+        ray.tmax = std::max(0.0f, ray.tmax - advance);
+    }
+
     // The renderer's way to the first ply: through the yarns the ray passes between plies of.
     bool first_ply(Ray ray) const {
         for (int k = 0; k <= kMaxPassThroughs; ++k) {
@@ -115,9 +120,7 @@ struct ClothSetup {
             if (hit.kind != SurfaceKind::Yarn) return true;
             const YarnShadingPoint y = query(ray, hit, PlyCrossSection::elliptical);
             if (y.hit) return true;
-            const float advance = hit.t + y.exit_distance + ray_offset(hit.position, hit.radius);
-            ray.origin = ray.at(advance);
-            ray.tmax = std::max(0.0f, ray.tmax - advance);
+            continue_past(ray, hit, y.exit_distance);
         }
         return false;
     }

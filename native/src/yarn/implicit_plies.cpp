@@ -121,10 +121,8 @@ PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, uint32_t 
 }
 
 // The same when `at` is the projection of the tube entry itself (not of a neighbouring point).
-PlyHit pass_through(const CurveFrames& frames, const YarnTubeHit& hit, const CentrelineProjection& at) {
-    return pass_through(hit, tube_exit(frames, at, hit.point, hit.direction).distance);
-}
-PlyHit pass_through(const CachedCurve& frames, const YarnTubeHit& hit, const CentrelineProjection& at) {
+template <class Curve>  // CurveFrames, or a query's CachedCurve
+PlyHit pass_through(const Curve& frames, const YarnTubeHit& hit, const CentrelineProjection& at) {
     return pass_through(hit, tube_exit(frames, at, hit.point, hit.direction).distance);
 }
 

@@ -97,13 +97,8 @@ CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, ui
                                            int max_steps) {
     // The segment the projection ends in is expanded once for its steps and the final frame.
     const CachedCurve cache(frames);
-    return project_to_centreline(cache, x, segment, t, max_steps);
-}
-
-CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
-                                           int max_steps) {
-    CentrelineProjection r = project_to_centreline_unframed(frames, x, segment, t, max_steps);
-    r.point = frames.evaluate(r.segment, r.t);  // the same centre-line point, with its frame
+    CentrelineProjection r = project_to_centreline_unframed(cache, x, segment, t, max_steps);
+    r.point = cache.evaluate(r.segment, r.t);  // the same centre-line point, with its frame
     return r;
 }
 

@@ -20,11 +20,9 @@ struct CentrelineProjection {
 CentrelineProjection project_to_centreline(const CurveFrames& frames, Vec3 x, uint32_t segment, float t,
                                            int max_steps = 8);
 // The same through a query's cache of segment expansions (the same numbers; the segments it
-// expands are then at hand for the query's later evaluations).
-CentrelineProjection project_to_centreline(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
-                                           int max_steps = 8);
-// The same without the frame: `point` is the centre-line point the last Newton step already
-// evaluated (its normal, binormal and arc length are left zero), which saves one evaluation.
+// expands are then at hand for the query's later evaluations), without the frame: `point` is
+// the centre-line point the last Newton step already evaluated (its normal, binormal and arc
+// length are left zero), which saves one evaluation.
 CentrelineProjection project_to_centreline_unframed(const CachedCurve& frames, Vec3 x, uint32_t segment, float t,
                                                     int max_steps = 8);
 
