@@ -1150,18 +1150,27 @@ PlyHit trace_elliptical(const CachedCurve& frames, const YarnDescription& d, con
 // an analytic helix in s with phase phi_i + rate s: crossings and entries need only sines, no
 // curve evaluation. Exact on straight yarns; on bends the error grows as |kappa|^2 s^3, i.e.
 // with the stretch an oblique ray crosses (docs/implicit-geometry.md has the measurements).
+
 // cos and sin to ~3e-7 for |a| up to ~1e4 (every query evaluates dozens of phases; libm's
-// sincosf was a quarter of the local method's time): quadrant reduction by pi/2 in two
-// parts, then Taylor polynomials on [-pi/4, pi/4].
-inline void turn_sincos(float a, float& c, float& s) {
-    // nearbyint without a library call: adding and removing 1.5 * 2^23 rounds to the nearest
-    // whole number (ties to even, as nearbyint in the default rounding mode) for |x| < 2^22.
-    const float x = a * 0.636619772f;
-    const float q = std::fabs(x) < 4194304.0f ? (x + 12582912.0f) - 12582912.0f : std::nearbyint(x);
+// sincosf was a quarter of the local method's time): a less q quarter turns (q: a rounded to
+// whole quarter turns, the reduction by pi/2 in two parts), by Taylor polynomials on
+// [-pi/4, pi/4]; the caller turns them by q.
+inline void reduced_sincos(float a, float q, float& sr, float& cr) {
     const float r = (a - q * 1.57079625f) - q * 7.54978995e-8f;
     const float r2 = r * r;
-    const float sr = r * (1 + r2 * (-1.0f / 6 + r2 * (1.0f / 120 + r2 * (-1.0f / 5040))));
-    const float cr = 1 + r2 * (-0.5f + r2 * (1.0f / 24 + r2 * (-1.0f / 720 + r2 * (1.0f / 40320))));
+    sr = r * (1 + r2 * (-1.0f / 6 + r2 * (1.0f / 120 + r2 * (-1.0f / 5040))));
+    cr = 1 + r2 * (-0.5f + r2 * (1.0f / 24 + r2 * (-1.0f / 720 + r2 * (1.0f / 40320))));
+}
+
+// nearbyint without a library call: adding and removing 1.5 * 2^23 rounds to the nearest whole
+// number (ties to even, as nearbyint in the default rounding mode) for |x| < 2^22.
+inline float quarter_turns(float a) { return (a * 0.636619772f + 12582912.0f) - 12582912.0f; }
+
+inline void turn_sincos(float a, float& c, float& s) {
+    const float x = a * 0.636619772f;
+    const float q = std::fabs(x) < 4194304.0f ? quarter_turns(a) : std::nearbyint(x);
+    float sr, cr;
+    reduced_sincos(a, q, sr, cr);
     switch (static_cast<int>(q) & 3) {
         case 0: c = cr, s = sr; break;
         case 1: c = -sr, s = cr; break;
@@ -1206,7 +1215,7 @@ struct LocalHelices {
     }
     float offsets[kMaxPlies];  // 2 pi i / N of ply i, set by set_offsets
     void set_offsets(int plies) {
-        for (int i = 0; i < plies && i < kMaxPlies; ++i) offsets[i] = 2 * kPi * i / plies;
+        for (int i = 0; i < kMaxPlies; ++i) offsets[i] = i < plies ? 2 * kPi * i / plies : 0.0f;
     }
     void phase_at(int ply, int plies, float s, float& cp, float& sp) const {
         turn_sincos(phase + rate * s + offsets[ply], cp, sp);
@@ -1332,10 +1341,8 @@ struct LocalNode {
     float s, f, miss, pace;  // arc length, crossing function, distance from the ray (m), |w1 across the ray|
 };
 
-// LocalHelices::at across the ray.
-LocalNode local_node(const LocalHelices& m, int ply, int plies, float s) {
-    float cp, sp;
-    m.phase_at(ply, plies, s, cp, sp);
+// LocalHelices::at across the ray, from the cosine and sine of the ply's phase at s.
+inline LocalNode node_at(const LocalHelices& m, float s, float cp, float sp) {
     const Vec2 out = m.normal_across * cp + m.binormal_across * sp;
     const Vec2 around = m.binormal_across * cp - m.normal_across * sp;
     const float lean = 1 - m.offset * (m.nk * cp + m.bk * sp), turn = m.offset * m.rate * (m.bk * cp - m.nk * sp);
@@ -1344,18 +1351,108 @@ LocalNode local_node(const LocalHelices& m, int ply, int plies, float s) {
     return {s, dot(w, w1), length(w), length(w1)};
 }
 
+// Out of line (scan subdivisions and huge phases only): inlined, it grew the scan past what
+// GCC inlines into trace_local, +3 % instructions.
+[[gnu::noinline]] LocalNode local_node(const LocalHelices& m, int ply, int plies, float s) {
+    float cp, sp;
+    m.phase_at(ply, plies, s, cp, sp);
+    return node_at(m, s, cp, sp);
+}
+
+// Bounds over a query's stretch on the derivatives of a ply centre seen across the ray
+// (m per m of s to the k-th power): |w1|, |w2|, |w3|, |w4|.
+struct HelixBounds {
+    float speed, bend, jerk, snap;
+};
+
+// The least the squared miss distance D = |w|^2 can be over [a, b]: the cubic Hermite
+// interpolant of D from the ends' values and slopes (D' = 2 f) less its error bound,
+// max |D4| (b - a)^4 / 384, with the fourth derivative D4 = 2 (3 |w2|^2 + 4 w1.w3 + w.w4)
+// bounded from `far` (|w| over the interval), `fastest` (|w1|) and the helix bounds.
+float least_miss2(const LocalNode& a, const LocalNode& b, float far, float fastest, const HelixBounds& bounds) {
+    const float h = b.s - a.s;
+    const float d0 = sqr(a.miss), d1 = sqr(b.miss), s0 = 2 * a.f * h, s1 = 2 * b.f * h;
+    // D(a + t h) = d0 + s0 t + c2 t^2 + c3 t^3 on t in [0, 1]; its least value at an end or
+    // at a root of the slope s0 + 2 c2 t + 3 c3 t^2.
+    const float c2 = 3 * (d1 - d0) - 2 * s0 - s1, c3 = 2 * (d0 - d1) + s0 + s1;
+    float least = std::min(d0, d1);
+    const auto consider = [&](float t) {
+        if (t > 0 && t < 1) least = std::min(least, d0 + t * (s0 + t * (c2 + t * c3)));
+    };
+    // The slope's roots by the cancellation-free form (a root off by rounding would
+    // overstate the least value).
+    const float disc = c2 * c2 - 3 * c3 * s0;
+    if (disc >= 0) {
+        const float q = -(c2 + std::copysign(std::sqrt(disc), c2));
+        if (c3 != 0) consider(q / (3 * c3));
+        if (q != 0) consider(s0 / q);
+    }
+    const float snap = 2 * (3 * sqr(bounds.bend) + 4 * fastest * bounds.jerk + far * bounds.snap);
+    return least - snap * sqr(sqr(h)) / 384;
+}
+
+// The scan's grid nodes for every ply (node k of ply i at [k * kMaxPlies + i]), built in one
+// pass over the plies per node that the compiler vectorises: local_node's arithmetic lane by
+// lane. Phases too large for quarter_turns (|phase| >= 2^22 pi / 2) take local_node itself.
+struct LocalGrid {
+    static constexpr int kMaxNodes = 65;
+    Slots<float, kMaxNodes> s;
+    Slots<float, kMaxNodes * kMaxPlies> f, miss, pace;
+
+    void build(const LocalHelices& m, int plies, float s_lo, float s_hi, int steps) {
+        const int lanes = (plies + 3) & ~3;
+        const float h = (s_hi - s_lo) / steps;
+        const bool fits =
+            std::fabs(m.phase) + std::fabs(m.rate) * std::max(std::fabs(s_lo), std::fabs(s_hi)) + 2 * kPi < 6.5e6f;
+        for (int k = 0; k <= steps; ++k) {
+            const float at = k == steps ? s_hi : s_lo + h * k;
+            s[k] = at;
+            if (fits) {
+                nodes(m, lanes, at, &f[k * kMaxPlies], &miss[k * kMaxPlies], &pace[k * kMaxPlies]);
+                continue;
+            }
+            for (int i = 0; i < plies; ++i) {
+                const LocalNode n = local_node(m, i, plies, at);
+                f[k * kMaxPlies + i] = n.f, miss[k * kMaxPlies + i] = n.miss, pace[k * kMaxPlies + i] = n.pace;
+            }
+        }
+    }
+    LocalNode node(int k, int ply) const {
+        return {s[k], f[k * kMaxPlies + ply], miss[k * kMaxPlies + ply], pace[k * kMaxPlies + ply]};
+    }
+
+private:
+    static void nodes(const LocalHelices& m, int lanes, float s, float* __restrict f, float* __restrict miss,
+                      float* __restrict pace) {
+        for (int i = 0; i < lanes; ++i) {
+            const float a = m.phase + m.rate * s + m.offsets[i], q = quarter_turns(a);
+            float sr, cr;
+            reduced_sincos(a, q, sr, cr);
+            // turn_sincos's quadrant by selects: a switch would keep the loop from vectorising.
+            const int quadrant = static_cast<int>(q);
+            const float cs = (quadrant & 1) ? sr : cr, sn = (quadrant & 1) ? cr : sr;
+            const float cp = ((quadrant + 1) & 2) ? -cs : cs, sp = (quadrant & 2) ? -sn : sn;
+            const LocalNode n = node_at(m, s, cp, sp);
+            f[i] = n.f, miss[i] = n.miss, pace[i] = n.pace;
+        }
+    }
+};
+
 // Calls visit(s, w, w1) (ply centre relative to the tube entry, its derivative) for every
 // closest approach of ply `ply` to the ray in [s_lo, s_hi] that may be within its radius, and
 // for a stretch end where the ply is within reach moving away (start) or toward the ray (end).
-// The ply's distance to the ray changes by at most `speed_bound` per m of s and its second
-// derivative is at most `bend_bound`, which bounds f' = |w1_perp|^2 + w_perp.w2_perp: an
-// interval is skipped when the ply cannot come within reach at a root of f, solved when f
-// changes sign, and split only when f's slope bounds leave room for a pair of roots to hide
-// between the nodes.
+// The ply's distance to the ray changes by at most `bounds.speed` per m of s and its second
+// derivative is at most `bounds.bend`, which bounds f' = |w1_perp|^2 + w_perp.w2_perp: an
+// interval is skipped when the ply cannot come within reach at a root of f or anywhere in it
+// (least_miss2), solved when f changes sign, and split only when f's slope bounds leave room
+// for a pair of roots to hide between the nodes.
 template <class Visit>
-void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, float s_hi, int steps, float speed_bound,
-                      float bend_bound, float tolerance, const Visit& visit) {
-    const float h = (s_hi - s_lo) / steps, finest = 0.25f * m.ply_radius / speed_bound;
+void local_approaches(const LocalHelices& m, int ply, int plies, const LocalGrid& grid, int steps,
+                      const HelixBounds& bounds, float tolerance, const Visit& visit) {
+    const float s_lo = grid.s[0], s_hi = grid.s[steps];
+    const float speed_bound = bounds.speed, bend_bound = bounds.bend;
+    const float reach2 = sqr(m.ply_radius + kGraze * tolerance);
+    const float finest = 0.25f * m.ply_radius / speed_bound;
     const auto visit_end = [&](float s) {
         float cp, sp;
         Vec3 w, w1;
@@ -1363,10 +1460,10 @@ void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, flo
         m.at(s, cp, sp, w, w1, nullptr);
         visit(s, w, w1);
     };
-    LocalNode prev = local_node(m, ply, plies, s_lo);
+    LocalNode prev = grid.node(0, ply);
     if (prev.f >= 0 && prev.miss <= m.ply_radius) visit_end(s_lo);
     for (int k = 1; k <= steps; ++k) {
-        const LocalNode next = local_node(m, ply, plies, k == steps ? s_hi : s_lo + h * k);
+        const LocalNode next = grid.node(k, ply);
         LocalNode stack[24][2];
         int depth = 0;
         stack[depth][0] = prev, stack[depth++][1] = next;
@@ -1384,10 +1481,11 @@ void local_approaches(const LocalHelices& m, int ply, int plies, float s_lo, flo
             if (rise > 0) {
                 const float from_a =
                     clamp(0.5f * width + 0.5f * (sqr(a.miss) - sqr(b.miss)) / (rise * width), 0.0f, width);
-                if (std::max(sqr(a.miss) - rise * sqr(from_a), sqr(b.miss) - rise * sqr(width - from_a)) >
-                    sqr(m.ply_radius + kGraze * tolerance))
+                if (std::max(sqr(a.miss) - rise * sqr(from_a), sqr(b.miss) - rise * sqr(width - from_a)) > reach2)
                     continue;
             }
+            // Nowhere within reach (with a margin for the bound's own rounding).
+            if (least_miss2(a, b, far, fastest, bounds) > 1.001f * reach2) continue;
             if (a.f < 0 && b.f >= 0) {
                 Vec3 w, w1;
                 const float s = local_crossing(m, ply, plies, a.s, b.s, a.f, b.f, 10 * tolerance, w, w1);
@@ -1465,7 +1563,12 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
     const float kappa = length(c.curvature), s_max = std::max(std::fabs(s_lo), std::fabs(s_hi));
     const float speed_bound = across_length * (1 + m.offset * kappa) + m.offset * std::fabs(m.rate) +
                               kappa * s_max * (1 + m.offset * std::fabs(m.rate));
-    const float bend_bound = kappa * (1 + 2 * m.offset * std::fabs(m.rate)) + m.offset * sqr(m.rate);
+    // Higher derivatives: the bend, the ply's turn (offset rate^k) and its lean on the bend
+    // (the tangent times s lean(phase), lean's k-th derivative at most offset kappa rate^k).
+    const float rate = std::fabs(m.rate), lean = m.offset * kappa;
+    const HelixBounds bounds{speed_bound, kappa + m.offset * rate * rate + lean * rate * (2 + s_max * rate),
+                             m.offset * rate * rate * rate + lean * rate * rate * (3 + s_max * rate),
+                             m.offset * sqr(sqr(rate)) + lean * rate * rate * rate * (4 + s_max * rate)};
     const float tolerance = options.tolerance * radius;
     // Crossings within a ply radius (N_i counts their plies), then entries in the order of a
     // lower bound on each (the approach less twice the straight cylinder's half chord and a
@@ -1477,7 +1580,9 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
     Reach reached[64];
     int count = 0;
     uint32_t crossed = 0;
-    for (int ply = 0; ply < plies && ply < 32; ++ply) {
+    LocalGrid grid;
+    grid.build(m, std::min(plies, kMaxPlies), s_lo, s_hi, steps);
+    for (int ply = 0; ply < plies && ply < kMaxPlies; ++ply) {
         const auto visit = [&](float sc, const Vec3& w, const Vec3& w1) {
             const float miss2 = m.miss2(w);
             if (miss2 > sqr(m.ply_radius + kGraze * tolerance) || count == 64) return;
@@ -1490,7 +1595,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
                 reached[k] = reached[k - 1];
             reached[k] = {ply, sc, approach, approach - 2 * half_chord - m.ply_radius};
         };
-        local_approaches(m, ply, plies, s_lo, s_hi, steps, speed_bound, bend_bound, tolerance, visit);
+        local_approaches(m, ply, plies, grid, steps, bounds, tolerance, visit);
     }
     int best_ply = -1;
     float best_enter = 1e30f, best_s = 0;
