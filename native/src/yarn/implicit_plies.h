@@ -14,8 +14,8 @@
 //
 // local: the same crossings on the yarn straightened to second order at the hit (centre-line
 // c + T s + kappa s^2 / 2, frame turned to first order), so every ply is an analytic helix and
-// the query needs no curve evaluation: exact on straight yarns, approximate on bends; 11-43 %
-// cheaper with 2-5 plies, no cheaper with 12. Multi-scale's virtual rays use it (trace_plies_local).
+// the query needs no curve evaluation: exact on straight yarns, approximate on bends; 30-64 %
+// cheaper than elliptical on a straight yarn. Multi-scale's virtual rays use it (trace_plies_local).
 //
 // elliptical_yarn_plane: the paper's plane taken literally (one plane for all plies, oriented
 // by the yarn's tangent); it loses plies at oblique views, kept for comparison. Circular (Zhu
