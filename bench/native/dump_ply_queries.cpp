@@ -35,11 +35,16 @@ const char* const kFields[] = {"hit",      "ply",      "plies_crossed", "point_x
                                "arrangement_azimuth", "segment", "t", "iterations", "converged", "radius"};
 constexpr int kFieldCount = sizeof(kFields) / sizeof(kFields[0]);
 
+// `method` indexes kMethods.
 PlyHit query(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit, int method) {
     PlyTraceOptions options;
-    if (method == 0) return trace_plies(frames, d, hit, options);
-    options.cross_section = method == 2 ? PlyCrossSection::circular : PlyCrossSection::local;
-    if (method != 3) return trace_plies(frames, d, hit, options);
+    switch (method) {
+        case 0: return trace_plies(frames, d, hit, options);  // elliptical, the default
+        case 1: options.cross_section = PlyCrossSection::local; return trace_plies(frames, d, hit, options);
+        case 2: options.cross_section = PlyCrossSection::circular; return trace_plies(frames, d, hit, options);
+        default: break;  // straight
+    }
+    options.cross_section = PlyCrossSection::local;
     CentrelineProjection at = project_to_centreline(frames, hit.point, hit.segment, hit.t);
     at.point.curvature = Vec3(0.0f);
     return trace_plies_local(frames, d, yarn_twist(frames, d), hit, at, options);

@@ -1396,10 +1396,12 @@ float least_miss2(const LocalNode& a, const LocalNode& b, float far, float faste
 // lane. Phases too large for quarter_turns (|phase| >= 2^22 pi / 2) take local_node itself.
 struct LocalGrid {
     static constexpr int kMaxNodes = 65;
+    int steps = 0;  // intervals between the nodes
     Slots<float, kMaxNodes> s;
     Slots<float, kMaxNodes * kMaxPlies> f, miss, pace;
 
-    void build(const LocalHelices& m, int plies, float s_lo, float s_hi, int steps) {
+    void build(const LocalHelices& m, int plies, float s_lo, float s_hi, int intervals) {
+        steps = intervals;
         const int lanes = (plies + 3) & ~3;
         const float h = (s_hi - s_lo) / steps;
         const bool fits =
@@ -1447,8 +1449,9 @@ private:
 // (least_miss2), solved when f changes sign, and split only when f's slope bounds leave room
 // for a pair of roots to hide between the nodes.
 template <class Visit>
-void local_approaches(const LocalHelices& m, int ply, int plies, const LocalGrid& grid, int steps,
-                      const HelixBounds& bounds, float tolerance, const Visit& visit) {
+void local_approaches(const LocalHelices& m, int ply, int plies, const LocalGrid& grid, const HelixBounds& bounds,
+                      float tolerance, const Visit& visit) {
+    const int steps = grid.steps;
     const float s_lo = grid.s[0], s_hi = grid.s[steps];
     const float speed_bound = bounds.speed, bend_bound = bounds.bend;
     const float reach2 = sqr(m.ply_radius + kGraze * tolerance);
@@ -1595,7 +1598,7 @@ PlyHit trace_local(const CurveFrames& frames, const YarnDescription& d, const Ya
                 reached[k] = reached[k - 1];
             reached[k] = {ply, sc, approach, approach - 2 * half_chord - m.ply_radius};
         };
-        local_approaches(m, ply, plies, grid, steps, bounds, tolerance, visit);
+        local_approaches(m, ply, plies, grid, bounds, tolerance, visit);
     }
     int best_ply = -1;
     float best_enter = 1e30f, best_s = 0;
