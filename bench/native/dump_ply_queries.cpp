@@ -7,12 +7,15 @@
 //
 // Writes OUT_PREFIX.json (methods, fields, scenes) and OUT_PREFIX.<scene>.bin: for every ray
 // that meets a yarn tube, for every method in order, the PlyHit fields below as float32.
-// Methods: the three of render.ply_method, and `straight`, the local method with the yarn
+// Methods: the three of render.ply_method; `straight`, the local method with the yarn
 // straightened at the hit (curvature zero): what any answer precomputed for straight yarns
-// would give.
+// would give; and `explicit`, the truth: the same yarn's plies as exact helix tubes
+// (ExplicitPlies), traced from the tube entry to the tube exit, N_i by one trace per ply.
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,21 +24,24 @@
 #include "render/camera.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
+#include "yarn/explicit_plies.h"
 #include "yarn/implicit_plies.h"
+#include "yarn/ply_validation.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {
 namespace {
 
 const char* const kScenes[] = {"glove_close", "glove_far", "knit_tube"};
-const char* const kMethods[] = {"elliptical", "local", "circular", "straight"};
+const char* const kMethods[] = {"elliptical", "local", "circular", "straight", "explicit"};
+constexpr int kMethodCount = sizeof(kMethods) / sizeof(kMethods[0]);
 const char* const kFields[] = {"hit",      "ply",      "plies_crossed", "point_x", "point_y", "point_z",
                                "normal_x", "normal_y", "normal_z",      "tangent_x", "tangent_y", "tangent_z",
                                "distance", "exit_distance", "u_ply",   "v_ply",   "u_yarn",  "v_yarn",
                                "arrangement_azimuth", "segment", "t", "iterations", "converged", "radius"};
 constexpr int kFieldCount = sizeof(kFields) / sizeof(kFields[0]);
 
-// `method` indexes kMethods.
+// `method` indexes kMethods (all but `explicit`).
 PlyHit query(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit, int method) {
     PlyTraceOptions options;
     switch (method) {
@@ -71,6 +77,7 @@ int dump_scene(const std::string& prefix, const char* name, int rays) {
         std::fprintf(stderr, "dump_ply_queries: cannot write %s\n", path.c_str());
         return 1;
     }
+    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<ExplicitPlies>> explicit_plies;  // per curve, built on first use
     Rng rng(11, 5);
     int written = 0;
     for (long tries = 0; written < rays && tries < 100L * rays; ++tries) {
@@ -80,8 +87,11 @@ int dump_scene(const std::string& prefix, const char* name, int rays) {
         const CurveFrames& curve = frames[hit.object][hit.curve];
         const YarnDescription& d = scene.yarns[hit.object].material.yarn;
         const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
-        for (int method = 0; method < 4; ++method)
+        for (int method = 0; method + 1 < kMethodCount; ++method)
             write_hit(out, query(curve, d, tube_hit, method), curve.reference_radius());
+        auto& plies = explicit_plies[{hit.object, hit.curve}];
+        if (!plies) plies = std::make_unique<ExplicitPlies>(curve, d);
+        write_hit(out, explicit_ply_answer(*plies, d.plies(), tube_hit, curve.reference_radius()), curve.reference_radius());
         ++written;
     }
     std::fclose(out);
@@ -116,7 +126,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::fprintf(meta, "{\"scenes\": %s, \"methods\": %s, \"fields\": %s}\n", json_list(kScenes, 3).c_str(),
-                 json_list(kMethods, 4).c_str(), json_list(kFields, kFieldCount).c_str());
+                 json_list(kMethods, kMethodCount).c_str(), json_list(kFields, kFieldCount).c_str());
     std::fclose(meta);
     try {
         for (const char* name : kScenes)

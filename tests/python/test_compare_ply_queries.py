@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "compare_ply_queries.py"
-FIELDS = ["hit", "ply", "plies_crossed", "point_x", "point_y", "point_z", "radius"]
+FIELDS = ["hit", "ply", "plies_crossed", "point_x", "point_y", "point_z", "tangent_x", "tangent_y", "tangent_z", "radius"]
 METHODS = ["elliptical", "local"]
 
 
@@ -23,7 +23,8 @@ def sample_rays():
     rays[..., 0] = 1  # every ray hits
     rays[..., 1] = [[0, 0], [1, 1], [2, 2], [0, 0]]
     rays[..., 2] = 2
-    rays[..., 6] = 0.5  # yarn radius
+    rays[..., 6] = 1  # tangent along x
+    rays[..., 9] = 0.5  # yarn radius
     return rays
 
 
@@ -44,6 +45,7 @@ def test_changes_are_counted_by_kind(tmp_path):
     new[1, 1, 1] = 2  # local: another ply
     new[2, 1, 3] += 0.01  # local: the same ply, moved by 0.02 R
     new[3, 1, 0] = 0  # local: a pass-through instead of a hit
+    new[2, 1, 6:9] = [np.cos(np.radians(10)), np.sin(np.radians(10)), 0]  # and its tangent turned by 10 deg
     write_dump(tmp_path / "old", old)
     write_dump(tmp_path / "new", new)
     lines = compare(tmp_path / "old", tmp_path / "new").stdout.splitlines()
@@ -51,6 +53,8 @@ def test_changes_are_counted_by_kind(tmp_path):
     assert "0 differ in some bit" in elliptical
     assert "3 differ in some bit; hit state 1, ply 1, N_i 0 changed" in local
     assert "moved > 1e-4 R: 1, most 0.02 R" in local
+    # Same ply on rays 0 and 2: tangents turned by 0 and 10 degrees.
+    assert "tangent turned (same ply) mean 5, p99 9.9 deg" in local
 
 
 def test_methods_of_one_dump_are_compared(tmp_path):

@@ -255,14 +255,24 @@ CurvePoint SegmentExpansion::evaluate(float t) const {
         c.normal = orthonormalize(rotate_minimal(na, ta, c.tangent), c.tangent);
     }
     c.binormal = cross(c.tangent, c.normal);
+    // The frame's turn about the tangent: the twist share, less the smallest rotation's own
+    // turn as the tangent swings away from the start tangent (checked against finite
+    // differences of the frame in the tests).
+    const float speed = std::max(c.speed, 1e-30f);
+    c.frame_turn = (t >= 0 && t <= 1 ? twist / speed : 0.0f) -
+                   (ct > -0.9f ? dot(ta, cross(c.tangent, c.curvature)) / (1 + ct) : 0.0f);
 
     // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.
     if (t < 0) {
         c.arc_length = start_length + t * start_speed;
+        c.arc_rate = start_speed / speed;
     } else if (t > 1) {
         c.arc_length = end_length + (t - 1) * end_speed;
+        c.arc_rate = end_speed / speed;
     } else {
         const float t2 = t * t, t3 = t2 * t;
+        c.arc_rate = ((6 * t2 - 6 * t) * (start_length - end_length) + (3 * t2 - 4 * t + 1) * start_speed +
+                      (3 * t2 - 2 * t) * end_speed) / speed;
         c.arc_length = (2 * t3 - 3 * t2 + 1) * start_length + (t3 - 2 * t2 + t) * start_speed +
                        (-2 * t3 + 3 * t2) * end_length + (t3 - t2) * end_speed;
     }

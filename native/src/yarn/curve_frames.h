@@ -49,6 +49,13 @@ struct CurvePoint {
     float speed;     // |dC/dt|, m per unit t
     float radius;    // yarn radius R, m
     float arc_length;  // v_yarn: m from the root along the centre-line
+    // What a helix around the centre-line needs for its exact derivative, since the frame and
+    // v_yarn are interpolated: how fast the frame turns the normal toward the binormal (rad
+    // per m; zero for an exact rotation-minimizing frame, small but not zero here), and
+    // d arc_length / ds (1 for the exact arc length, within a few 1e-3 of it here).
+    // evaluate_centreline leaves them at 0 and 1.
+    float frame_turn = 0;
+    float arc_rate = 1;
 };
 
 // One segment's centre-line as polynomials in t, plus the constants its frame needs (start

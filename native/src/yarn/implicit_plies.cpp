@@ -165,8 +165,8 @@ const PlyOffsets& ply_offsets() {
 // C_j + cos(phi_i) Re A_j - sin(phi_i) Im A_j, and everything after that is polynomial
 // arithmetic. On straight yarns the model is exact to rounding; on bends its error is that of
 // quintic Hermite interpolation, h^6 |f^(6)| / 46080 (for a piece of 2 R on a bend of radius
-// 2 R, with the frame turning at up to k + kappa, below 1e-3 R), inside
-// PlyTraceOptions::model_margin (5e-3 R).
+// 2 R, with the frame turning at up to k + kappa, below 1e-3 R). Cloth's curvature changes
+// within a piece, and there the model is off by up to ~0.05 R: PlyTraceOptions::model_margin.
 
 struct Quintic {
     Vec3 k[6];  // in v = u / h, u the arc length from the piece's start
@@ -681,19 +681,19 @@ float closest_point_step(const PlyCut& cut, Vec3 x) {
 }
 
 // Distance from the ray point at `lambda` to the ply surface (negative inside), with `cut`
-// moved to the helix point closest to it.
+// moved to the helix point closest to it. Measured to that helix point itself, not to the
+// line along its tangent: if the steps stop short of the closest point, the distance is still
+// an upper bound, so a point outside the ply is never taken for one inside.
 float helix_gap(const CachedCurve& frames, const YarnDescription& d, const YarnTwist& tw, const YarnTubeHit& hit,
                 int ply, float lambda, PlyCut& cut, int& evaluations) {
     const Vec3 x = hit.point + hit.direction * lambda;
-    for (int step = 0; step < 3; ++step) {
+    for (int step = 0; step < 6; ++step) {
         const float ds = closest_point_step(cut, x);
         cut = cut_at(frames, d, tw, ply, cut.g + ds / std::max(cut.yarn.speed, 1e-30f));
         ++evaluations;
         if (std::fabs(ds) < 1e-4f * cut.centre.radius) break;
     }
-    const Vec3 r = x - cut.centre.position;
-    const Vec3 axis = normalize(cut.centre.derivative);
-    return length(r - axis * dot(r, axis)) - cut.centre.radius;
+    return length(x - cut.centre.position) - cut.centre.radius;
 }
 
 // Where the ray enters the ply around one closest approach: the entry into the cut's
@@ -1252,11 +1252,12 @@ float local_crossing(const LocalHelices& m, int ply, int plies, float lo, float 
 }
 
 // Distance from the ray point at `lambda` to ply `ply`'s surface (negative inside), with s
-// moved to the helix point closest to it.
+// moved to the helix point closest to it; to the point itself, an upper bound if the steps
+// stop short (as helix_gap).
 float local_gap(const LocalHelices& m, int ply, int plies, float lambda, float max_shift, float& s) {
     const Vec3 x = m.ray * lambda;
     Vec3 w, w1, w2;
-    for (int step = 0; step < 4; ++step) {
+    for (int step = 0; step < 6; ++step) {
         float cp, sp;
         m.phase_at(ply, plies, s, cp, sp);
         m.at(s, cp, sp, w, w1, &w2);
@@ -1266,8 +1267,7 @@ float local_gap(const LocalHelices& m, int ply, int plies, float lambda, float m
         if (std::fabs(ds) < 1e-5f * max_shift) break;
         s += clamp(ds, -max_shift, max_shift);
     }
-    const Vec3 r = x - w, axis = normalize(w1);
-    return length(r - axis * dot(r, axis)) - m.ply_radius;
+    return length(x - w) - m.ply_radius;
 }
 
 // Where the ray (from the tube entry) enters ply `ply` near its crossing at s, whose closest

@@ -49,8 +49,10 @@ struct PlyTraceOptions {
     // Yarn radii the model may be off by: a crossing whose model miss distance is within this
     // of the ply radius is settled on the exact curve, and exact entries are refined until the
     // next model entry, less this margin (over the cosine of incidence), is past the best one.
-    // A large value resolves every crossing exactly (slow; for tests).
-    float model_margin = 0.005f;
+    // A large value resolves every crossing exactly (slow; for tests). On knitted cloth the
+    // model is off by up to ~0.05 R (curvature changes within a piece): with this default,
+    // 11,999 of 12,000 cloth rays get the answer a margin of 1 R gives (0.005 R: 11,954).
+    float model_margin = 0.05f;
 };
 
 // The renderer's yarn-tube hit: the ray and where it entered the tube.

@@ -12,8 +12,10 @@ namespace {
 
 constexpr float kBack = 30.0f;  // ray origins start this many yarn radii before the yarn
 
+// By atan2 of the sine and cosine: acos of a float cosine cannot tell angles below ~0.03 deg apart.
 float degrees_between(Vec3 a, Vec3 b) {
-    return std::acos(clamp(dot(normalize(a), normalize(b)), -1.0f, 1.0f)) * (180.0f / kPi);
+    const Vec3 u = normalize(a), v = normalize(b);
+    return std::atan2(length(cross(u, v)), dot(u, v)) * (180.0f / kPi);
 }
 
 bool finite_hit(const PlyHit& h) {
@@ -50,28 +52,6 @@ Traced trace_reference(const Setup& s, Vec3 origin, Vec3 direction) {
     r.exit = s.plies.tube_exit(origin, direction, tube.distance + 1e-4f, 3 * kBack, tube.segment, tube.t);
     r.reference = s.plies.intersect_plies(origin, direction, tube.distance - 1e-3f, r.exit + 1e-3f);
     return r;
-}
-
-void compare(MethodStats& m, const PlyHit& h, const Traced& r, int crossed_reference) {
-    ++m.rays;
-    if (!finite_hit(h)) ++m.non_finite;
-    if (!h.converged) ++m.unconverged;
-    m.iterations.push_back(h.max_ply_iterations);
-    if (h.hit == r.reference.hit) ++m.agree;
-    if (h.hit && !r.reference.hit) ++m.false_hits;
-    if (!h.hit && r.reference.hit) ++m.false_misses;
-    if (!h.hit || !r.reference.hit) return;
-    ++m.both_hit;
-    if (crossed_reference >= 0) {
-        ++m.crossed_checked;
-        if (h.plies_crossed == crossed_reference) ++m.crossed_agree;
-    }
-    if (h.ply != r.reference.ply) return;
-    ++m.same_ply;
-    m.normal_error.push_back(degrees_between(h.normal, r.reference.normal));
-    m.tangent_error.push_back(degrees_between(h.tangent, r.reference.tangent));
-    const float entry = length(r.entry.point - r.entry.origin);
-    m.distance_error.push_back(std::fabs(h.distance - (r.reference.distance - entry)));
 }
 
 // A ray at angle psi from the yarn's normal plane through the cross-section at (segment, t),
@@ -126,6 +106,47 @@ double MethodStats::percentile(std::vector<float> v, double p) const {
     return v[k];
 }
 
+PlyHit explicit_ply_answer(const ExplicitPlies& plies, int ply_count, const YarnTubeHit& hit, float radius) {
+    // Start a hair before the entry, so that a ply touching the tube there is not missed.
+    const float back = 1e-3f * radius;
+    const Vec3 origin = hit.point - hit.direction * back;
+    const float exit = plies.tube_exit(origin, hit.direction, 2 * back, 8 * radius, hit.segment, hit.t);
+    const ExplicitHit e = plies.intersect_plies(origin, hit.direction, 0, exit);
+    PlyHit h;
+    h.converged = e.resolved;
+    h.exit_distance = exit - back;
+    h.iterations = e.steps;
+    if (!e.hit) return h;
+    h.hit = true;
+    h.ply = e.ply;
+    h.point = e.point, h.normal = e.normal, h.tangent = e.tangent;
+    h.distance = e.distance - back;
+    h.segment = e.segment, h.t = e.t;
+    for (int i = 0; i < ply_count; ++i) h.plies_crossed += plies.intersect_ply(i, origin, hit.direction, 0, exit).hit;
+    return h;
+}
+
+void compare_with_explicit(MethodStats& m, const PlyHit& h, const PlyHit& reference, bool count_crossings) {
+    ++m.rays;
+    if (!finite_hit(h)) ++m.non_finite;
+    if (!h.converged) ++m.unconverged;
+    m.iterations.push_back(h.max_ply_iterations);
+    if (h.hit == reference.hit) ++m.agree;
+    if (h.hit && !reference.hit) ++m.false_hits;
+    if (!h.hit && reference.hit) ++m.false_misses;
+    if (!h.hit || !reference.hit) return;
+    ++m.both_hit;
+    if (count_crossings) {
+        ++m.crossed_checked;
+        if (h.plies_crossed == reference.plies_crossed) ++m.crossed_agree;
+    }
+    if (h.ply != reference.ply) return;
+    ++m.same_ply;
+    m.normal_error.push_back(degrees_between(h.normal, reference.normal));
+    m.tangent_error.push_back(degrees_between(h.tangent, reference.tangent));
+    m.distance_error.push_back(std::fabs(h.distance - reference.distance));
+}
+
 ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& elliptical_options) {
     const Setup setup(c);
     const CurveFrames& frames = setup.frames;
@@ -155,16 +176,22 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
             ++result.reference_unresolved;
             continue;
         }
+        PlyHit reference;
+        reference.hit = r.reference.hit;
+        reference.ply = r.reference.ply;
+        reference.normal = r.reference.normal, reference.tangent = r.reference.tangent;
+        reference.distance = r.reference.distance - length(r.entry.point - origin);
         // The explicit N_i needs one trace per ply: only every k-th ray pays for it.
-        int crossed = -1;
-        if (c.count_crossings_every > 0 && made % c.count_crossings_every == 0) {
-            crossed = 0;
+        const bool count_crossings = c.count_crossings_every > 0 && made % c.count_crossings_every == 0;
+        if (count_crossings) {
             const float entry = r.reference.hit ? r.reference.distance - 1e-3f : 0.0f;
             for (int p = 0; p < c.description.plies(); ++p)
-                crossed += setup.plies.intersect_ply(p, origin, direction, entry, r.exit + 1e-3f).hit ? 1 : 0;
+                reference.plies_crossed += setup.plies.intersect_ply(p, origin, direction, entry, r.exit + 1e-3f).hit;
         }
-        compare(result.elliptical, trace_plies(frames, c.description, r.entry, elliptical), r, crossed);
-        compare(result.circular, trace_plies(frames, c.description, r.entry, circular), r, crossed);
+        compare_with_explicit(result.elliptical, trace_plies(frames, c.description, r.entry, elliptical), reference,
+                              count_crossings);
+        compare_with_explicit(result.circular, trace_plies(frames, c.description, r.entry, circular), reference,
+                              count_crossings);
     }
     return result;
 }

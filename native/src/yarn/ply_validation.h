@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "yarn/explicit_plies.h"
 #include "yarn/implicit_plies.h"
 #include "yarn/yarn_description.h"
 
@@ -58,6 +59,15 @@ struct ValidationResult {
 // `elliptical_options` configures the method reported as `elliptical` (any cross-section kind);
 // `circular` always uses the circular cross-section.
 ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& elliptical_options = {});
+
+// The explicit plies' answer at a tube hit, for any yarn (cloth included), as a PlyHit: the
+// ray from the tube entry to where it leaves the tube (a later passage through the same yarn
+// is another query), the first ply it enters, N_i by one trace per ply. `converged` is false
+// when the explicit trace ran out of steps; `iterations` holds its step count.
+PlyHit explicit_ply_answer(const ExplicitPlies& plies, int ply_count, const YarnTubeHit& hit, float radius);
+// Adds one ray to `m`: how an implicit answer compares with the explicit one (N_i only when
+// count_crossings, since the explicit N_i is costly).
+void compare_with_explicit(MethodStats& m, const PlyHit& implicit, const PlyHit& reference, bool count_crossings);
 
 // An orthographic picture of one case for the Fig. 3-style maps: per pixel, whether each
 // method (and the reference) hit a ply and the ply tangents. Straight yarns are seen at

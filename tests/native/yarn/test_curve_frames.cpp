@@ -104,6 +104,33 @@ TEST(CurveFrames, NonPlanarLoopIsContinuousAcrossTheSeam) {
     EXPECT_GT(std::fabs(first_rate), 0.05f);  // the loop does have holonomy to spread
 }
 
+TEST(CurveFrames, FrameTurnAndArcRateMatchFiniteDifferences) {
+    // A coarse trefoil: few control points, so the interpolated frame turns visibly about the
+    // tangent and the Hermite arc length departs from the true one.
+    const auto p = loop(12, [](float a) {
+        return Vec3(std::sin(a) + 2 * std::sin(2 * a), std::cos(a) - 2 * std::cos(2 * a), -std::sin(3 * a));
+    });
+    const CurveFrames f(CurveView::chain(p.data(), static_cast<uint32_t>(p.size()), true));
+    float largest_turn = 0, largest_arc_change = 0;
+    for (uint32_t s = 0; s < 12; ++s)
+        for (float t : {0.1f, 0.35f, 0.6f, 0.9f}) {
+            const float h = 2e-3f;
+            const CurvePoint c = f.evaluate(s, t), a = f.evaluate(s, t - h), b = f.evaluate(s, t + h);
+            const float ds = 2 * h * c.speed;
+            EXPECT_NEAR(c.frame_turn, dot(b.normal - a.normal, c.binormal) / ds, 2e-3f + 2e-3f * std::fabs(c.frame_turn))
+                << "segment " << s << ", t " << t;
+            EXPECT_NEAR(c.arc_rate, (b.arc_length - a.arc_length) / ds, 1e-3f) << "segment " << s << ", t " << t;
+            largest_turn = std::max(largest_turn, std::fabs(c.frame_turn));
+            largest_arc_change = std::max(largest_arc_change, std::fabs(c.arc_rate - 1));
+        }
+    EXPECT_GT(largest_turn, 0.05f);  // the test means something: the frame does turn
+    EXPECT_GT(largest_arc_change, 1e-3f);
+    // Only the centre-line: the frame quantities keep their neutral values.
+    const CurvePoint centreline = f.evaluate_centreline(3, 0.5f);
+    EXPECT_EQ(centreline.frame_turn, 0.0f);
+    EXPECT_EQ(centreline.arc_rate, 1.0f);
+}
+
 TEST(CurveFrames, FramesFollowARigidMotion) {
     const auto p = loop(24, [](float a) { return Vec3(std::cos(a), 1.5f * std::sin(a), 0.3f * std::cos(3 * a)); });
     // Rotate by 40 degrees about (1, 2, 3) and move.

@@ -225,6 +225,36 @@ TEST(ImplicitPlies, HelixDerivativesMatchFiniteDifferences) {
     }
 }
 
+TEST(ImplicitPlies, HelixTangentFollowsTheStoredFrameOnANonPlanarCurve) {
+    // A coarse trefoil, where the interpolated frame turns about the tangent and the Hermite
+    // arc length is not the true one: the ply tangent (the shading frame's) must still be the
+    // derivative of the helix as built on that frame. Cloth is non-planar everywhere.
+    std::vector<Vec4> pts;
+    for (int i = 0; i < 15; ++i) {
+        const float a = 2 * kPi * (i % 12) / 12;
+        pts.emplace_back(std::sin(a) + 2 * std::sin(2 * a), std::cos(a) - 2 * std::cos(2 * a), -std::sin(3 * a), 0.3f);
+    }
+    const CurveFrames f(CurveView::chain(pts.data(), static_cast<uint32_t>(pts.size()), true));
+    const YarnDescription d = touching_plies(3);
+    const YarnTwist tw = yarn_twist(f, d);
+    float largest_frame_share = 0;
+    for (uint32_t seg = 0; seg < 12; ++seg)
+        for (float t : {0.2f, 0.5f, 0.8f})
+            for (int ply = 0; ply < 3; ++ply) {
+                const float h = 2e-3f;
+                const PlyCentre p = ply_centre(f.evaluate(seg, t), d, tw, ply);
+                const Vec3 d1 = ply_centre(f.evaluate(seg, t + h), d, tw, ply).position -
+                                ply_centre(f.evaluate(seg, t - h), d, tw, ply).position;
+                const Vec3 a = normalize(d1), b = normalize(p.derivative);
+                const float degrees = std::atan2(length(cross(a, b)), dot(a, b)) * 180 / kPi;  // acos: too coarse near 0
+                EXPECT_LT(degrees, 0.02f) << "segment " << seg << ", t " << t << ", ply " << ply;
+                const CurvePoint c = f.evaluate(seg, t);
+                largest_frame_share = std::max(largest_frame_share, d.ply_distance * c.radius *
+                                                                        std::fabs(c.frame_turn) / length(p.derivative));
+            }
+    EXPECT_GT(largest_frame_share, 0.005f);  // without the frame's turn the tangent would be > 0.3 deg off
+}
+
 // The local model decides alone only where it is clear by its margin (model_margin); with a
 // margin of a whole yarn radius every crossing is settled and every entry refined on the exact
 // curve. Both must give the same ply, point and N_i, on straight yarns and on a tight loop, for
