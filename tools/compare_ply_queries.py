@@ -7,7 +7,8 @@ Two methods of one dump:    compare_ply_queries.py PREFIX --methods straight ell
 For each scene (and method) it prints how many rays differ in any output bit, how many change
 hit state, ply or N_i, how far the hit point moves (in yarn radii R) and how far the ply tangent
 turns (degrees) where both answers hit the same ply. The dump's `explicit` method is the truth:
-`--methods explicit elliptical` measures a method's error in cloth. Exit status 1 when
+`--methods explicit elliptical` measures a method's error in cloth (rays where the explicit
+answer did not converge, e.g. met another passage of the yarn, are left out and counted). Exit status 1 when
 the dumps do not match in layout, so scripts cannot compare the wrong files.
 """
 import argparse
@@ -64,8 +65,17 @@ def main():
             if name not in meta["methods"]:
                 parser.error(f"unknown method {name!r}; the dump has {', '.join(meta['methods'])}")
         i, j = (meta["methods"].index(m) for m in args.methods)
+        converged = meta["fields"].index("converged")
         for scene, d in data.items():
-            print(f"{scene}, {args.methods[1]} against {args.methods[0]}: {summary(d[:, i], d[:, j], meta['fields'])}")
+            # The explicit answer is not comparable where it did not converge (another passage of
+            # the yarn, or out of steps): those rays are left out, and counted.
+            keep = np.ones(len(d), dtype=bool)
+            for k, name in ((i, args.methods[0]), (j, args.methods[1])):
+                if name == "explicit":
+                    keep &= d[:, k, converged] == 1
+            left_out = f" ({(~keep).sum()} rays without an explicit answer left out)" if not keep.all() else ""
+            print(f"{scene}, {args.methods[1]} against {args.methods[0]}{left_out}: "
+                  f"{summary(d[keep, i], d[keep, j], meta['fields'])}")
         return 0
     other_meta, other = load(args.other)
     if other_meta != meta or any(other[s].shape != d.shape for s, d in data.items()):

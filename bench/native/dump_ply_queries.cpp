@@ -91,7 +91,7 @@ int dump_scene(const std::string& prefix, const char* name, int rays) {
             write_hit(out, query(curve, d, tube_hit, method), curve.reference_radius());
         auto& plies = explicit_plies[{hit.object, hit.curve}];
         if (!plies) plies = std::make_unique<ExplicitPlies>(curve, d);
-        write_hit(out, explicit_ply_answer(*plies, d.plies(), tube_hit, curve.reference_radius()), curve.reference_radius());
+        write_hit(out, explicit_ply_answer(curve, *plies, d.plies(), tube_hit), curve.reference_radius());
         ++written;
     }
     std::fclose(out);

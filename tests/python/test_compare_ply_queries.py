@@ -8,12 +8,13 @@ import sys
 import numpy as np
 
 TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "compare_ply_queries.py"
-FIELDS = ["hit", "ply", "plies_crossed", "point_x", "point_y", "point_z", "tangent_x", "tangent_y", "tangent_z", "radius"]
+FIELDS = ["hit", "ply", "plies_crossed", "point_x", "point_y", "point_z", "tangent_x", "tangent_y", "tangent_z",
+          "converged", "radius"]
 METHODS = ["elliptical", "local"]
 
 
-def write_dump(prefix, rays, scenes=("a",)):
-    prefix.with_suffix(".json").write_text(json.dumps({"scenes": list(scenes), "methods": METHODS, "fields": FIELDS}))
+def write_dump(prefix, rays, scenes=("a",), methods=METHODS):
+    prefix.with_suffix(".json").write_text(json.dumps({"scenes": list(scenes), "methods": methods, "fields": FIELDS}))
     for scene in scenes:
         rays.astype(np.float32).tofile(f"{prefix}.{scene}.bin")
 
@@ -24,7 +25,8 @@ def sample_rays():
     rays[..., 1] = [[0, 0], [1, 1], [2, 2], [0, 0]]
     rays[..., 2] = 2
     rays[..., 6] = 1  # tangent along x
-    rays[..., 9] = 0.5  # yarn radius
+    rays[..., 9] = 1  # converged
+    rays[..., 10] = 0.5  # yarn radius
     return rays
 
 
@@ -65,6 +67,18 @@ def test_methods_of_one_dump_are_compared(tmp_path):
     assert result.returncode == 0, result.stderr
     assert "hit state 0, ply 0, N_i 1 changed" in result.stdout
     assert compare(tmp_path / "dump", "--methods", "elliptical", "exact").returncode != 0
+
+
+def test_rays_without_an_explicit_answer_are_left_out(tmp_path):
+    rays = sample_rays()
+    rays[0, 1, 2] = 3  # the method crosses one ply more than the explicit plies on the first ray
+    rays[3, 1, 1] = 1  # and finds another ply on the last
+    rays[3, 0, 9] = 0  # where the explicit answer met another passage of the yarn
+    write_dump(tmp_path / "dump", rays, methods=["explicit", "local"])
+    result = compare(tmp_path / "dump", "--methods", "explicit", "local")
+    assert result.returncode == 0, result.stderr
+    assert "(1 rays without an explicit answer left out)" in result.stdout
+    assert "3 rays:" in result.stdout and "ply 0, N_i 1 changed" in result.stdout
 
 
 def test_dumps_of_another_layout_are_refused(tmp_path):

@@ -6,6 +6,7 @@
 #include "math/rng.h"
 #include "yarn/curve_frames.h"
 #include "yarn/explicit_plies.h"
+#include "yarn/yarn_tube.h"
 
 namespace purl {
 namespace {
@@ -106,11 +107,21 @@ double MethodStats::percentile(std::vector<float> v, double p) const {
     return v[k];
 }
 
-PlyHit explicit_ply_answer(const ExplicitPlies& plies, int ply_count, const YarnTubeHit& hit, float radius) {
+PlyHit explicit_ply_answer(const CurveFrames& frames, const ExplicitPlies& plies, int ply_count,
+                           const YarnTubeHit& hit) {
+    const float radius = frames.reference_radius();
     // Start a hair before the entry, so that a ply touching the tube there is not missed.
     const float back = 1e-3f * radius;
     const Vec3 origin = hit.point - hit.direction * back;
     const float exit = plies.tube_exit(origin, hit.direction, 2 * back, 8 * radius, hit.segment, hit.t);
+    // A ply met farther along the yarn than the ray's passage can reach belongs to another
+    // passage of the same yarn (a knit's loops touch and overlap theirs).
+    const float here = project_to_centreline(frames, hit.point, hit.segment, hit.t).point.arc_length;
+    const auto elsewhere = [&](const ExplicitHit& e) {
+        float apart = std::fabs(frames.evaluate(e.segment, e.t).arc_length - here);
+        if (frames.closed()) apart = std::min(apart, frames.total_length() - apart);
+        return apart > exit + 2 * radius;
+    };
     const ExplicitHit e = plies.intersect_plies(origin, hit.direction, 0, exit);
     PlyHit h;
     h.converged = e.resolved;
@@ -122,7 +133,13 @@ PlyHit explicit_ply_answer(const ExplicitPlies& plies, int ply_count, const Yarn
     h.point = e.point, h.normal = e.normal, h.tangent = e.tangent;
     h.distance = e.distance - back;
     h.segment = e.segment, h.t = e.t;
-    for (int i = 0; i < ply_count; ++i) h.plies_crossed += plies.intersect_ply(i, origin, hit.direction, 0, exit).hit;
+    bool other_passage = elsewhere(e);
+    for (int i = 0; i < ply_count; ++i) {
+        const ExplicitHit crossing = plies.intersect_ply(i, origin, hit.direction, 0, exit);
+        h.plies_crossed += crossing.hit;
+        other_passage = other_passage || (crossing.hit && elsewhere(crossing));
+    }
+    h.converged = h.converged && !other_passage;
     return h;
 }
 

@@ -63,8 +63,12 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
 // The explicit plies' answer at a tube hit, for any yarn (cloth included), as a PlyHit: the
 // ray from the tube entry to where it leaves the tube (a later passage through the same yarn
 // is another query), the first ply it enters, N_i by one trace per ply. `converged` is false
-// when the explicit trace ran out of steps; `iterations` holds its step count.
-PlyHit explicit_ply_answer(const ExplicitPlies& plies, int ply_count, const YarnTubeHit& hit, float radius);
+// when there is nothing to compare with: the explicit trace ran out of steps, or a ply it
+// meets lies farther along the yarn than this passage reaches (another passage of the same
+// yarn, overlapping this one's tube, as a knit's touching loops do). `iterations` holds the
+// explicit trace's step count.
+PlyHit explicit_ply_answer(const CurveFrames& frames, const ExplicitPlies& plies, int ply_count,
+                           const YarnTubeHit& hit);
 // Adds one ray to `m`: how an implicit answer compares with the explicit one (N_i only when
 // count_crossings, since the explicit N_i is costly).
 void compare_with_explicit(MethodStats& m, const PlyHit& implicit, const PlyHit& reference, bool count_crossings);

@@ -3,8 +3,10 @@
 // the same yarn's plies as exact helix tubes (explicit_ply_answer). The synthetic sweep
 // (test_ply_validation) covers straight yarns and loops of fixed curvature; cloth bends
 // harder and at every angle (kappa R at the hit: median 0.3, 90th percentile up to 0.7).
-// Thresholds sit under what was measured on 2,000 rays per scene (docs/implicit-geometry.md,
-// "Against explicit plies in cloth"), so a regression fails and noise does not.
+// Rays whose explicit answer meets another passage of the same yarn (touching loops whose
+// tubes overlap) are left out and counted. Thresholds sit under what was measured on 2,000
+// rays per scene (docs/implicit-geometry.md, "Against explicit plies in cloth"), so a
+// regression fails and noise does not.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -25,6 +27,7 @@ namespace {
 
 struct ClothAccuracy {
     MethodStats exact, local;
+    int not_comparable = 0;  // rays whose explicit answer involves another passage of the yarn
 };
 
 ClothAccuracy measure(const std::string& scene_name, int rays) {
@@ -47,9 +50,12 @@ ClothAccuracy measure(const std::string& scene_name, int rays) {
         auto& plies = explicit_plies[{hit.object, hit.curve}];
         if (!plies) plies = std::make_unique<ExplicitPlies>(curve, d);
         const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
-        const PlyHit reference = explicit_ply_answer(*plies, d.plies(), tube_hit, curve.reference_radius());
-        if (!reference.converged) continue;  // the reference ran out of steps: nothing to compare with
+        const PlyHit reference = explicit_ply_answer(curve, *plies, d.plies(), tube_hit);
         ++made;
+        if (!reference.converged) {  // another passage of the yarn, or out of steps: nothing to compare
+            ++result.not_comparable;
+            continue;
+        }
         compare_with_explicit(result.exact, trace_plies(curve, d, tube_hit, exact), reference, true);
         compare_with_explicit(result.local, trace_plies(curve, d, tube_hit, local), reference, true);
     }
@@ -60,7 +66,7 @@ void expect_close_to_explicit(const std::string& scene, const std::string& metho
                               double min_same_ply, double min_crossings, double max_mean_tangent,
                               double max_p99_tangent) {
     SCOPED_TRACE(scene + ", " + method);
-    ASSERT_GT(m.rays, 500);
+    ASSERT_GT(m.rays, 900);
     EXPECT_EQ(m.non_finite, 0);
     // Rays on which both find the same ply, or both pass between the plies.
     const double same = double(m.same_ply + (m.agree - m.both_hit)) / m.rays;
@@ -77,7 +83,9 @@ void expect_close_to_explicit(const std::string& scene, const std::string& metho
 TEST(ClothPlyAccuracy, ExactAndLocalMethodsAgainstExplicitPliesInKnits) {
     for (const char* scene : {"knit_tube", "glove_close"}) {
         const ClothAccuracy a = measure(scene, 1000);
-        expect_close_to_explicit(scene, "exact", a.exact, 0.99, 0.99, 0.97, 0.2, 2.0);
+        std::printf("%s: %d of 1000 rays not comparable\n", scene, a.not_comparable);
+        EXPECT_LT(a.not_comparable, 30) << scene;  // the filter must not hide the comparison
+        expect_close_to_explicit(scene, "exact", a.exact, 0.995, 0.995, 0.99, 0.2, 2.0);
         expect_close_to_explicit(scene, "local", a.local, 0.98, 0.98, 0.90, 1.5, 10.0);
     }
 }
