@@ -28,6 +28,14 @@ def load(prefix):
     return meta, data
 
 
+def tangent_turn(a, b, col):
+    """Degrees between the tangents of answers a and b (rays x fields), for each ray. By atan2 of
+    sine and cosine in double: arccos of a float32 cosine is blind below ~0.03 deg."""
+    t = slice(col["tangent_x"], col["tangent_z"] + 1)
+    ta, tb = a[:, t].astype(np.float64), b[:, t].astype(np.float64)
+    return np.degrees(np.arctan2(np.linalg.norm(np.cross(ta, tb), axis=1), np.abs(np.sum(ta * tb, axis=1))))
+
+
 def summary(a, b, fields):
     """One line on how answers b differ from answers a (arrays: rays x fields)."""
     col = {name: i for i, name in enumerate(fields)}
@@ -39,10 +47,7 @@ def summary(a, b, fields):
     point = slice(col["point_x"], col["point_z"] + 1)
     moved = np.linalg.norm(a[:, point] - b[:, point], axis=1) / a[:, col["radius"]]
     moved = np.where(both & ~ply, moved, 0.0)
-    tangent = slice(col["tangent_x"], col["tangent_z"] + 1)
-    # atan2 of sine and cosine in double: arccos of a float32 cosine is blind below ~0.03 deg.
-    ta, tb = a[both & ~ply, tangent].astype(np.float64), b[both & ~ply, tangent].astype(np.float64)
-    turned = np.degrees(np.arctan2(np.linalg.norm(np.cross(ta, tb), axis=1), np.abs(np.sum(ta * tb, axis=1))))
+    turned = tangent_turn(a[both & ~ply], b[both & ~ply], col)
     n = len(a)
     return (f"{n} rays: {n - same_bits.sum()} differ in some bit; hit state {hit.sum()}, ply {ply.sum()}, "
             f"N_i {crossed.sum()} changed (same hit state {1 - hit.mean():.4f}, same ply {1 - (hit | ply).mean():.4f}, "

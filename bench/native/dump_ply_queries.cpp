@@ -6,7 +6,8 @@
 //   dump_ply_queries OUT_PREFIX [RAYS_PER_SCENE (default 100000)]
 //
 // Writes OUT_PREFIX.json (methods, fields, scenes) and OUT_PREFIX.<scene>.bin: for every ray
-// that meets a yarn tube, for every method in order, the PlyHit fields below as float32.
+// that meets a yarn tube, for every method in order, the PlyHit fields below as float32, and
+// the ray's film position in pixels (tools/draw_cloth_accuracy.py draws maps from it).
 // Methods: the three of render.ply_method; `straight`, the local method with the yarn
 // straightened at the hit (curvature zero): what any answer precomputed for straight yarns
 // would give; and `explicit`, the truth: the same yarn's plies as exact helix tubes
@@ -38,7 +39,8 @@ constexpr int kMethodCount = sizeof(kMethods) / sizeof(kMethods[0]);
 const char* const kFields[] = {"hit",      "ply",      "plies_crossed", "point_x", "point_y", "point_z",
                                "normal_x", "normal_y", "normal_z",      "tangent_x", "tangent_y", "tangent_z",
                                "distance", "exit_distance", "u_ply",   "v_ply",   "u_yarn",  "v_yarn",
-                               "arrangement_azimuth", "segment", "t", "iterations", "converged", "radius"};
+                               "arrangement_azimuth", "segment", "t", "iterations", "converged", "radius",
+                               "film_x", "film_y"};
 constexpr int kFieldCount = sizeof(kFields) / sizeof(kFields[0]);
 
 // `method` indexes kMethods (all but `explicit`).
@@ -56,12 +58,13 @@ PlyHit query(const CurveFrames& frames, const YarnDescription& d, const YarnTube
     return trace_plies_local(frames, d, yarn_twist(frames, d), hit, at, options);
 }
 
-void write_hit(std::FILE* out, const PlyHit& h, float radius) {
+// One method's answer for the ray through film position (x, y), in pixels.
+void write_hit(std::FILE* out, const PlyHit& h, float radius, float x, float y) {
     const float fields[kFieldCount] = {
         float(h.hit),  float(h.ply),  float(h.plies_crossed), h.point.x,   h.point.y,   h.point.z,
         h.normal.x,    h.normal.y,    h.normal.z,             h.tangent.x, h.tangent.y, h.tangent.z,
         h.distance,    h.exit_distance, h.u_ply,              h.v_ply,     h.u_yarn,    h.v_yarn,
-        h.arrangement_azimuth, float(h.segment), h.t, float(h.iterations), float(h.converged), radius};
+        h.arrangement_azimuth, float(h.segment), h.t, float(h.iterations), float(h.converged), radius, x, y};
     std::fwrite(fields, sizeof fields, 1, out);
 }
 
@@ -81,17 +84,18 @@ int dump_scene(const std::string& prefix, const char* name, int rays) {
     Rng rng(11, 5);
     int written = 0;
     for (long tries = 0; written < rays && tries < 100L * rays; ++tries) {
-        const Ray ray = camera.generate_ray(rng.next_float() * scene.film.width, rng.next_float() * scene.film.height);
+        const float x = rng.next_float() * scene.film.width, y = rng.next_float() * scene.film.height;
+        const Ray ray = camera.generate_ray(x, y);
         SurfaceHit hit;
         if (!tubes.intersect(ray, hit) || hit.kind != SurfaceKind::Yarn) continue;
         const CurveFrames& curve = frames[hit.object][hit.curve];
         const YarnDescription& d = scene.yarns[hit.object].material.yarn;
         const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
         for (int method = 0; method + 1 < kMethodCount; ++method)
-            write_hit(out, query(curve, d, tube_hit, method), curve.reference_radius());
+            write_hit(out, query(curve, d, tube_hit, method), curve.reference_radius(), x, y);
         auto& plies = explicit_plies[{hit.object, hit.curve}];
         if (!plies) plies = std::make_unique<ExplicitPlies>(curve, d);
-        write_hit(out, explicit_ply_answer(curve, *plies, d.plies(), tube_hit), curve.reference_radius());
+        write_hit(out, explicit_ply_answer(curve, *plies, d.plies(), tube_hit), curve.reference_radius(), x, y);
         ++written;
     }
     std::fclose(out);
