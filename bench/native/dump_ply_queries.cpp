@@ -80,7 +80,8 @@ int dump_scene(const std::string& prefix, const char* name, int rays) {
         std::fprintf(stderr, "dump_ply_queries: cannot write %s\n", path.c_str());
         return 1;
     }
-    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<ExplicitPlies>> explicit_plies;  // per curve, built on first use
+    // Per curve, built on first use.
+    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<ExplicitPlies>> explicit_plies;
     Rng rng(11, 5);
     int written = 0;
     for (long tries = 0; written < rays && tries < 100L * rays; ++tries) {

@@ -62,9 +62,9 @@ ClothAccuracy measure(const std::string& scene_name, int rays) {
     return result;
 }
 
-void expect_close_to_explicit(const std::string& scene, const std::string& method, const MethodStats& m, double min_agreement,
-                              double min_same_ply, double min_crossings, double max_mean_tangent,
-                              double max_p99_tangent) {
+void expect_close_to_explicit(const std::string& scene, const std::string& method, const MethodStats& m,
+                              double min_agreement, double min_same_ply, double min_crossings,
+                              double max_mean_tangent, double max_p99_tangent) {
     SCOPED_TRACE(scene + ", " + method);
     ASSERT_GT(m.rays, 900);
     EXPECT_EQ(m.non_finite, 0);

@@ -117,7 +117,8 @@ TEST(CurveFrames, FrameTurnAndArcRateMatchFiniteDifferences) {
             const float h = 2e-3f;
             const CurvePoint c = f.evaluate(s, t), a = f.evaluate(s, t - h), b = f.evaluate(s, t + h);
             const float ds = 2 * h * c.speed;
-            EXPECT_NEAR(c.frame_turn, dot(b.normal - a.normal, c.binormal) / ds, 2e-3f + 2e-3f * std::fabs(c.frame_turn))
+            const float turn = dot(b.normal - a.normal, c.binormal) / ds;
+            EXPECT_NEAR(c.frame_turn, turn, 2e-3f + 2e-3f * std::fabs(c.frame_turn))
                 << "segment " << s << ", t " << t;
             EXPECT_NEAR(c.arc_rate, (b.arc_length - a.arc_length) / ds, 1e-3f) << "segment " << s << ", t " << t;
             largest_turn = std::max(largest_turn, std::fabs(c.frame_turn));

@@ -246,7 +246,8 @@ TEST(ImplicitPlies, HelixTangentFollowsTheStoredFrameOnANonPlanarCurve) {
                 const Vec3 d1 = ply_centre(f.evaluate(seg, t + h), d, tw, ply).position -
                                 ply_centre(f.evaluate(seg, t - h), d, tw, ply).position;
                 const Vec3 a = normalize(d1), b = normalize(p.derivative);
-                const float degrees = std::atan2(length(cross(a, b)), dot(a, b)) * 180 / kPi;  // acos: too coarse near 0
+                // atan2, not acos: a float cosine cannot tell angles this small apart.
+                const float degrees = std::atan2(length(cross(a, b)), dot(a, b)) * 180 / kPi;
                 EXPECT_LT(degrees, 0.02f) << "segment " << seg << ", t " << t << ", ply " << ply;
                 const CurvePoint c = f.evaluate(seg, t);
                 largest_frame_share = std::max(largest_frame_share, d.ply_distance * c.radius *
