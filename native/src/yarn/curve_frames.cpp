@@ -248,19 +248,19 @@ CurvePoint SegmentExpansion::evaluate(float t) const {
     // time), and the smallest rotation keeps both: only the half-turn branch needs orthonormalizing.
     const Vec3& ta = start_tangent;
     const float ct = dot(ta, c.tangent);
+    float swing = 0;  // the smallest rotation's own turn about the tangent, rad/m (half-turns: 0)
     if (ct > -0.9f) {
         const Vec3 k = cross(ta, c.tangent);
         c.normal = na * ct + cross(k, na) + k * (dot(k, na) / (1.0f + ct));
+        swing = dot(c.curvature, k) / (1.0f + ct);
     } else {
         c.normal = orthonormalize(rotate_minimal(na, ta, c.tangent), c.tangent);
     }
     c.binormal = cross(c.tangent, c.normal);
-    // The frame's turn about the tangent: the twist share, less the smallest rotation's own
-    // turn as the tangent swings away from the start tangent (checked against finite
-    // differences of the frame in the tests).
+    // The frame's turn about the tangent: the twist share, less the swing (checked against
+    // finite differences of the frame in the tests).
     const float speed = std::max(c.speed, 1e-30f);
-    c.frame_turn = (t >= 0 && t <= 1 ? twist / speed : 0.0f) -
-                   (ct > -0.9f ? dot(ta, cross(c.tangent, c.curvature)) / (1 + ct) : 0.0f);
+    c.frame_turn = (t >= 0 && t <= 1 ? twist / speed : 0.0f) - swing;
 
     // Arc length: cubic Hermite through the boundary lengths and speeds, linear outside.
     if (t < 0) {
