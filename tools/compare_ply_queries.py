@@ -9,7 +9,7 @@ hit state, ply or N_i, how far the hit point moves (in yarn radii R) and how far
 turns (degrees) where both answers hit the same ply. The dump's `explicit` method is the truth:
 `--methods explicit elliptical` measures a method's error in cloth (rays where the explicit
 answer did not converge, e.g. met another passage of the yarn, are left out and counted). Exit status 1 when
-the dumps do not match in layout, so scripts cannot compare the wrong files.
+a dump cannot be read or the dumps do not match in layout, so scripts cannot compare the wrong files.
 """
 import argparse
 import json
@@ -28,12 +28,33 @@ def load(prefix):
     return meta, data
 
 
+def load_or_exit(prefix, tool):
+    """load(prefix), or exit with status 1 and a message naming the dump and the reason."""
+    try:
+        return load(prefix)
+    except (OSError, ValueError, KeyError) as e:  # a missing file, a wrong size, a bad header
+        raise SystemExit(f"{tool}: cannot read the dump {prefix}: {e}")
+
+
 def tangent_turn(a, b, col):
     """Degrees between the tangents of answers a and b (rays x fields), for each ray. By atan2 of
     sine and cosine in double: arccos of a float32 cosine is blind below ~0.03 deg."""
     t = slice(col["tangent_x"], col["tangent_z"] + 1)
     ta, tb = a[:, t].astype(np.float64), b[:, t].astype(np.float64)
     return np.degrees(np.arctan2(np.linalg.norm(np.cross(ta, tb), axis=1), np.abs(np.sum(ta * tb, axis=1))))
+
+
+def mismatch(m, e, col, comparable):
+    """Rays whose hit state, ply or N_i in answers m differ from the explicit answers e."""
+    hit = e[:, col["hit"]] == 1
+    return comparable & ((m[:, col["hit"]] != e[:, col["hit"]]) |
+                         (hit & (m[:, col["ply"]] != e[:, col["ply"]])) |
+                         (hit & (m[:, col["plies_crossed"]] != e[:, col["plies_crossed"]])))
+
+
+def same_ply(m, e, col, comparable):
+    """Rays on which answers m and the explicit answers e hit the same ply."""
+    return comparable & (e[:, col["hit"]] == 1) & (m[:, col["hit"]] == 1) & (m[:, col["ply"]] == e[:, col["ply"]])
 
 
 def summary(a, b, fields):
@@ -64,7 +85,7 @@ def main():
     args = parser.parse_args()
     if (args.other is None) == (args.methods is None):
         parser.error("give either a second dump or --methods A B")
-    meta, data = load(args.prefix)
+    meta, data = load_or_exit(args.prefix, "compare_ply_queries")
     if args.methods:
         for name in args.methods:
             if name not in meta["methods"]:
@@ -82,7 +103,7 @@ def main():
             print(f"{scene}, {args.methods[1]} against {args.methods[0]}{left_out}: "
                   f"{summary(d[keep, i], d[keep, j], meta['fields'])}")
         return 0
-    other_meta, other = load(args.other)
+    other_meta, other = load_or_exit(args.other, "compare_ply_queries")
     if other_meta != meta or any(other[s].shape != d.shape for s, d in data.items()):
         print(f"{args.prefix} and {args.other} differ in layout or ray count; nothing compared", file=sys.stderr)
         return 1

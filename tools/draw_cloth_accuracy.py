@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from compare_ply_queries import load, tangent_turn  # noqa: E402
+from compare_ply_queries import load_or_exit, mismatch, same_ply, tangent_turn  # noqa: E402
 
 TANGENT_SCALE = 3.0  # degrees at full colour
 
@@ -38,14 +38,6 @@ def binned_mean(x, y, values, shape):
     np.add.at(count, (rows, cols), 1)
     with np.errstate(invalid="ignore"):
         return total / count
-
-
-def mismatch(m, e, col, comparable):
-    """Rays whose hit state, ply or N_i differ from the explicit answer."""
-    hit = e[:, col["hit"]] == 1
-    return comparable & ((m[:, col["hit"]] != e[:, col["hit"]]) |
-                         (hit & (m[:, col["ply"]] != e[:, col["ply"]])) |
-                         (hit & (m[:, col["plies_crossed"]] != e[:, col["plies_crossed"]])))
 
 
 def draw(meta, data, out):
@@ -68,10 +60,9 @@ def draw(meta, data, out):
         x, y = e[:, col["film_x"]], e[:, col["film_y"]]
         shape = (int(np.ceil(y.max() + 1e-3)), int(np.ceil(x.max() + 1e-3)))
         comparable = e[:, col["converged"]] == 1
-        hit = e[:, col["hit"]] == 1
         for k, (method, label) in enumerate(shown):
             m = d[:, methods.index(method)]
-            same = comparable & hit & (m[:, col["hit"]] == 1) & (m[:, col["ply"]] == e[:, col["ply"]])
+            same = same_ply(m, e, col, comparable)
             err = tangent_turn(m[same], e[same], col)
             ax = axes[row, k]
             image = ax.imshow(binned_mean(x[same], y[same], err, shape), cmap="inferno", vmin=0, vmax=TANGENT_SCALE)
@@ -90,7 +81,7 @@ def draw(meta, data, out):
         ax = axes[row, 4]
         for method, label in curves:
             m = d[:, methods.index(method)]
-            same = comparable & hit & (m[:, col["hit"]] == 1) & (m[:, col["ply"]] == e[:, col["ply"]])
+            same = same_ply(m, e, col, comparable)
             err = np.sort(tangent_turn(m[same], e[same], col))
             ax.plot(np.maximum(err, 1e-4), np.arange(1, len(err) + 1) / len(err), label=label)
         ax.set_xscale("log")
@@ -113,11 +104,7 @@ def main():
     parser.add_argument("prefix", help="dump_ply_queries output prefix")
     parser.add_argument("--out", default="cloth-ply-accuracy.png")
     args = parser.parse_args()
-    try:
-        meta, data = load(args.prefix)
-    except (OSError, ValueError, KeyError) as e:  # a missing file, a wrong size, a bad header
-        print(f"draw_cloth_accuracy: cannot read the dump {args.prefix}: {e}", file=sys.stderr)
-        return 1
+    meta, data = load_or_exit(args.prefix, "draw_cloth_accuracy")
     draw(meta, data, args.out)
     return 0
 

@@ -50,6 +50,7 @@ struct ClothSetup {
     SceneDesc scene, explicit_scene;
     std::unique_ptr<EmbreeScene> tubes, plies;
     std::vector<std::vector<CurveFrames>> frames;  // per yarn set, per curve
+    std::vector<std::vector<YarnTwist>> twists;    // the same, kept per curve as the renderer does
     std::vector<std::unique_ptr<FiberMaps>> maps;  // per yarn set
     std::vector<Ray> rays;
     std::vector<SurfaceHit> hits;  // each ray's tube hit
@@ -63,6 +64,8 @@ struct ClothSetup {
         plies = std::make_unique<EmbreeScene>(explicit_scene);
         for (const YarnSetDesc& set : scene.yarns) {
             frames.push_back(yarn_set_frames(set.curves));
+            twists.emplace_back();
+            for (const CurveFrames& f : frames.back()) twists.back().push_back(yarn_twist(f, set.material.yarn));
             maps.push_back(std::make_unique<FiberMaps>(set.material.yarn));
         }
         const Camera camera(scene.camera, scene.film);
@@ -102,7 +105,7 @@ struct ClothSetup {
         options.cross_section = method;
         const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
         return trace_yarn_hit(frames[hit.object][hit.curve], scene.yarns[hit.object].material.yarn,
-                              *maps[hit.object], tube_hit, hit.curve, options);
+                              twists[hit.object][hit.curve], *maps[hit.object], tube_hit, hit.curve, options);
     }
 
     // A ray that passed between the plies goes on from where it leaves the tube, as the renderer's does.
@@ -185,7 +188,8 @@ void BM_ClothShared(benchmark::State& state) {
         const CurveFrames& frames = s.frames[hit.object][hit.curve];
         const YarnDescription& yarn = s.scene.yarns[hit.object].material.yarn;
         benchmark::DoNotOptimize(project_to_centreline(frames, hit.position, hit.segment, hit.u));
-        benchmark::DoNotOptimize(shade_ply_hit(s.ply_hits[k], frames, yarn, *s.maps[hit.object], hit.curve));
+        const YarnTwist& twist = s.twists[hit.object][hit.curve];
+        benchmark::DoNotOptimize(shade_ply_hit(s.ply_hits[k], frames, yarn, twist, *s.maps[hit.object], hit.curve));
     }
     label(state, s);
 }

@@ -87,3 +87,10 @@ def test_dumps_of_another_layout_are_refused(tmp_path):
     result = compare(tmp_path / "old", tmp_path / "new")
     assert result.returncode == 1
     assert "differ in layout or ray count" in result.stderr
+
+
+def test_a_missing_dump_is_a_clear_error(tmp_path):
+    write_dump(tmp_path / "old", sample_rays())
+    result = compare(tmp_path / "old", tmp_path / "missing")
+    assert result.returncode == 1
+    assert f"cannot read the dump {tmp_path / 'missing'}" in result.stderr

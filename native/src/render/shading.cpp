@@ -98,6 +98,7 @@ SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
                 data.frames.emplace_back(CurveView::separate_segments(
                     c.control_points.data(), static_cast<uint32_t>(c.point_count()),
                     c.segment_first.data() + first_segment, c.segment_count(i), c.closed[i] != 0));
+                data.yarn_twist.push_back(yarn_twist(data.frames.back(), set.material.yarn));
             }
             data.maps = std::make_unique<FiberMaps>(set.material.yarn);
         } else if (set.material.model == "ply") {
@@ -133,6 +134,7 @@ size_t SurfaceShader::memory_bytes() const {
         for (const CurveFrames& f : d.frames) bytes += f.memory_bytes();
         for (const CurveFrames& f : d.yarn_frames) bytes += f.memory_bytes();
         for (const ArcLengthIndex& a : d.yarn_arc) bytes += a.memory_bytes();
+        bytes += d.yarn_twist.size() * sizeof(YarnTwist);
         if (d.maps) bytes += d.maps->memory_bytes();
         if (d.fiber) bytes += sizeof(FiberBcsdf);
         bytes += d.colored_bysdf.size() * sizeof(BysdfParams) + d.colored_of_curve.size() * sizeof(uint32_t);
@@ -182,8 +184,8 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
         out.h_samples = 1;  // near unless the selector says otherwise
         if (shade_multiscale(hit, ray, *multiscale, tube_hit, out)) return out;
     }
-    const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, *data.maps, tube_hit, curve_key_base_[hit.object] + hit.curve,
-                                              ply_trace_);
+    const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, data.yarn_twist[hit.curve], *data.maps, tube_hit,
+                                              curve_key_base_[hit.object] + hit.curve, ply_trace_);
     if (!y.hit) {
         out.pass_through = true;
         out.continue_distance = y.exit_distance;
@@ -320,7 +322,7 @@ void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnS
     h.v_yarn = yarn.arc_length;
     h.segment = yarn_param.segment;
     h.t = yarn_param.t;
-    const YarnShadingPoint y = shade_ply_hit(h, yarn_frames, m.yarn, *data.maps, m.ply.key_base + o.yarn_curve);
+    const YarnShadingPoint y = shade_ply_hit(h, yarn_frames, m.yarn, twist, *data.maps, m.ply.key_base + o.yarn_curve);
     out.ply_index = o.ply;
     out.u_ply = h.u_ply;
     out.v_ply = h.v_ply;

@@ -99,6 +99,8 @@ private:
         // "ply" sets: the yarns the plies came from, per yarn curve.
         std::vector<CurveFrames> yarn_frames;
         std::vector<ArcLengthIndex> yarn_arc;
+        // The ply and fiber twist rates of each yarn curve: the "bysdf" sets' own curves, the
+        // "ply" sets' origin yarns (set once, not per hit).
         std::vector<YarnTwist> yarn_twist;
         std::unique_ptr<FiberBcsdf> fiber;  // "fiber" sets: the per-material BCSDF
         // Per-yarn colours (YarnCurves::colors): the material recoloured once per distinct

@@ -75,8 +75,13 @@ YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, con
 
 YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const FiberMaps& maps,
                                 const YarnTubeHit& hit, uint32_t curve_key, const PlyTraceOptions& options) {
-    const YarnTwist tw = yarn_twist(frames, d);  // once for both halves of the query
-    return shade(trace_plies(frames, d, tw, hit, options), frames, d, tw, maps, curve_key);
+    return trace_yarn_hit(frames, d, yarn_twist(frames, d), maps, hit, curve_key, options);
+}
+
+YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
+                                const FiberMaps& maps, const YarnTubeHit& hit, uint32_t curve_key,
+                                const PlyTraceOptions& options) {
+    return shade(trace_plies(frames, d, twist, hit, options), frames, d, twist, maps, curve_key);
 }
 
 }  // namespace purl

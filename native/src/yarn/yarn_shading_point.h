@@ -45,5 +45,9 @@ YarnShadingPoint shade_ply_hit(const PlyHit& hit, const CurveFrames& frames, con
 // trace_plies followed by shade_ply_hit: the whole implicit query for one yarn-tube hit.
 YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const FiberMaps& maps,
                                 const YarnTubeHit& hit, uint32_t curve_key, const PlyTraceOptions& options = {});
+// The same with the curve's twist rates at hand, as the renderer keeps them per curve.
+YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
+                                const FiberMaps& maps, const YarnTubeHit& hit, uint32_t curve_key,
+                                const PlyTraceOptions& options = {});
 
 }  // namespace purl
