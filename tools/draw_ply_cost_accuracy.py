@@ -86,13 +86,18 @@ def measure(times, meta, data):
     return rows
 
 
+def shared_ratios(rows):
+    """The shared work over the explicit trace, per row that has both."""
+    return [r["shared_ns"] / r["explicit_ns"] for r in rows if r["shared_ns"]]
+
+
 def table(rows):
     lines = ["| scene | method | query (ns) | Embree plies (ns) | query / plies | hit, ply or N_i wrong "
              "| tangent error p99 (deg) |", "|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['scene']} | {r['method']} | {r['ns']:.0f} | {r['explicit_ns']:.0f} | "
                      f"{r['ns'] / r['explicit_ns']:.2f} | {r['wrong']:.2%} | {r['tangent_p99']:.2f} |")
-    shared = [r["shared_ns"] / r["explicit_ns"] for r in rows if r["shared_ns"]]
+    shared = shared_ratios(rows)
     if shared:
         lines.append(f"\nShared work (projection, fiber maps, shading frame) / plies: "
                      f"{min(shared):.2f}-{max(shared):.2f}")
@@ -103,10 +108,10 @@ def draw(rows, out):
     colours = {"exact": "tab:blue", "local": "tab:orange", "circular": "tab:red"}
     markers = dict(zip(SCENES, "os^"))
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2))
-    panels = [("wrong", "hit, ply or N_i wrong against explicit plies (% of rays)", 100.0, "%"),
-              ("tangent_p99", "tangent error where the ply is right, 99th percentile (deg)", 1.0, "deg")]
-    shared = [r["shared_ns"] / r["explicit_ns"] for r in rows if r["shared_ns"]]
-    for ax, (key, ylabel, scale, _) in zip(axes, panels):
+    panels = [("wrong", "hit, ply or N_i wrong against explicit plies (% of rays)", 100.0),
+              ("tangent_p99", "tangent error where the ply is right, 99th percentile (deg)", 1.0)]
+    shared = shared_ratios(rows)
+    for ax, (key, ylabel, scale) in zip(axes, panels):
         for r in rows:
             ax.scatter(r["ns"] / r["explicit_ns"], max(r[key] * scale, 1e-3), color=colours.get(r["method"], "k"),
                        marker=markers.get(r["scene"], "D"), s=60, zorder=3)
