@@ -7,14 +7,14 @@ bl_info = {
     "author": "Purl developers",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "Properties > Render > Render Engine > Purl",
+    "location": "Properties > Render > Render Engine > Purl; File > Import > Yarn Curves (.bcc)",
     "description": "Renders yarn curves with implicit plies and fibers (multi-scale BYSDF)",
     "category": "Render",
 }
 
-from . import cycles_setup, engine, fit, presets, properties, scripting, ui  # noqa: E402  (bl_info comes first)
+from . import bcc_import, cycles_setup, engine, fit, presets, properties, scripting, ui  # noqa: E402  (bl_info first)
 
-_modules = (properties, engine, presets, fit, scripting, cycles_setup, ui)
+_modules = (properties, engine, presets, fit, scripting, cycles_setup, bcc_import, ui)
 
 
 def register():

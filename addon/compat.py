@@ -3,6 +3,8 @@ import bpy
 import numpy as np
 
 NODES_ALWAYS_ON = bpy.app.version >= (5, 0, 0)  # 5.0 deprecates use_nodes: node trees are always used
+# RenderPass.rect takes a flat float array through foreach_set from 4.x on; 3.4 wants a sequence.
+PASS_PIXELS_BY_FOREACH = bpy.app.version >= (4, 0, 0)
 
 
 def uses_nodes(datablock):

@@ -17,6 +17,7 @@ import bpy
 import numpy as np
 
 from . import compat, native, parameters
+from .export.materials import yarn_material
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SHADER_PATH = os.path.join(HERE, "osl", "purl_bysdf.osl")
@@ -297,13 +298,19 @@ def build_material(material, structure=None, use_drivers=True):
 
     params = getattr(settings, "params_bysdf", None) if settings is not None else None
     if params is not None:
+        # The artist controls (yarn colour, sheen, ...) folded into the physics values by the
+        # native rule; a value they change is set as it is, the others stay driven.
+        core = native.purlcore()
+        resolved = core.resolve_material(yarn_material(material, None)) if hasattr(core, "resolve_material") else {}
         for parameter in parameters.parameters("bysdf"):
             name = parameter["name"]
             if name not in script.inputs:
                 continue
             socket = script.inputs[name]
-            _set_input(socket, getattr(params, name) if parameter["components"] == 1 else list(getattr(params, name)))
-            if use_drivers:
+            physics = [float(v) for v in np.ravel(getattr(params, name))]
+            value = [float(v) for v in np.ravel(resolved.get(name, physics))]
+            _set_input(socket, value[0] if parameter["components"] == 1 else value)
+            if use_drivers and np.allclose(value, physics, rtol=1e-6, atol=1e-7):
                 _drive(tree, socket, material, "purl.params_bysdf." + name, int(parameter["components"]))
     links.new(script.outputs["BSDF"], output.inputs["Surface"])
     # The shader's Displacement output makes Cycles run it as the material's bump pass, where it

@@ -93,8 +93,8 @@ class PURL_OT_fit_to_image(bpy.types.Operator):
         if state:
             wm.progress_update(min(state["iteration"], self.iterations))
             context.area and context.area.header_text_set(
-                "Purl fit: iteration {} of {}, mse {:.4g} (Esc stops)".format(
-                    state["iteration"], self.iterations, state["mse"]))
+                "Purl fit: iteration {} of {}, mse {:.4g}, at most ~{:.0f} s left (Esc stops)".format(
+                    state["iteration"], self.iterations, state["mse"], state.get("seconds_left", 0)))
         if not self._job.finished:
             return {"PASS_THROUGH"}  # other timers are not ours to swallow
         wm.event_timer_remove(self._timer)
@@ -158,8 +158,9 @@ class FitJob:
 
     def _progress(self, state):
         self.state = dict(state)
-        print("Purl fit: iteration {iteration} {event}: mse {mse:.6g} ({renders} renders, "
-              "{seconds:.1f} s)".format(**state))
+        if state["event"] != "jacobian":  # one line per step; the header shows every derivative
+            print("Purl fit: iteration {iteration} {event}: mse {mse:.6g} ({renders} renders, "
+                  "{seconds:.1f} s, at most ~{seconds_left:.0f} s left)".format(**state))
         if self._stop.is_set():
             self.stopped = True
             return False

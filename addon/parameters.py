@@ -6,7 +6,6 @@ them from here, so the native declaration stays the only place they are written 
 from . import native
 
 _tables = None  # model name -> list of parameter dicts
-_yarn_geometry = None  # the bysdf model's yarn geometry parameters (material.yarn)
 
 YARN_GEOMETRY_MODELS = {"bysdf"}  # models that read material.yarn
 
@@ -22,19 +21,55 @@ def tables():
     return _tables
 
 
-def yarn_geometry():
-    """[{name, unit, components, min, max, default, doc, is_color, is_integer}] of material.yarn."""
-    global _yarn_geometry
-    if _yarn_geometry is None:
+_lists = {}  # purlcore function name -> the list it returned
+
+
+def _native_list(function):
+    """What purlcore.<function>() returns, read once; [] without purlcore or without the function."""
+    if function not in _lists:
         core = native.purlcore()
-        if core is None or not hasattr(core, "yarn_parameters"):
+        if core is None or not hasattr(core, function):
             return []
-        _yarn_geometry = list(core.yarn_parameters())
-    return _yarn_geometry
+        _lists[function] = list(getattr(core, function)())
+    return _lists[function]
+
+
+def yarn_geometry():
+    """[{name, label, unit, components, min, max, default, doc, is_color, is_integer, is_sign}] of material.yarn."""
+    return _native_list("yarn_parameters")
 
 
 def models():
     return list(tables().keys())
+
+
+def model_label(model):
+    """The model's name as an artist reads it (purlcore.material_model_labels)."""
+    core = native.purlcore()
+    labels = core.material_model_labels() if core is not None and hasattr(core, "material_model_labels") else {}
+    return labels.get(model) or model.replace("_", " ").title()
+
+
+def artist_parameters():
+    """[{name, label, doc, ...}] of the bysdf model's artist controls (colour, sheen, softness,
+    translucency); their docs state how each maps onto the physics parameters."""
+    return _native_list("artist_parameters")
+
+
+ARTIST_MODELS = {"bysdf"}  # models with artist controls
+
+
+# Units as a label suffix; "R" is the yarn radius. Units Blender shows itself are left out.
+_UNIT_SUFFIX = {"ply radii": "ply r", "deg": "°"}
+
+
+def label(parameter):
+    """The UI label: the native label (or the name), with its unit in brackets."""
+    text = parameter.get("label") or parameter["name"].replace("_", " ").capitalize()
+    unit = parameter.get("unit") or ""
+    if unit and unit not in ("m", "rad"):
+        text += " ({})".format(_UNIT_SUFFIX.get(unit, unit))
+    return text
 
 
 def parameters(model):

@@ -1,10 +1,14 @@
 """Yarn presets: JSON files listed in a menu, applied to the active material, saved by the user.
 
 A preset file holds the scene format's material object, so the CLI reads the same file:
-    {"name": "...", "description": "...", "source": "where the numbers come from",
-     "material": {"model": "placeholder", "color": [0.8, 0.2, 0.1]},
+    {"name": "wool", "label": "Wool (knit)", "description": "one line an artist reads",
+     "source": "where the numbers come from",
+     "material": {"model": "bysdf", ...},
      "blender": {"color_attribute": ""}}
-"blender" holds the settings the native material does not read yet; it is optional.
+"label" (else "name") is shown in the menu, "description" and "source" in its tooltip. "blender"
+holds the settings the native material does not read yet; it is optional. A preset sets the
+physics parameters; the artist controls (yarn colour, sheen, ...) stay as the artist set them
+unless the preset names them.
 """
 import json
 import os
@@ -13,6 +17,7 @@ import bpy
 from bpy.props import StringProperty
 
 from . import parameters, properties
+from .export.materials import artist_values
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 
@@ -49,12 +54,32 @@ def list_presets():
     return found
 
 
-def _label(path):
+def _read_display(path):
+    """The preset's display fields; {} when the file cannot be read."""
     try:
         with open(path, encoding="utf-8") as f:
-            return str(json.load(f).get("name") or os.path.basename(path)[:-5])
-    except (OSError, ValueError, AttributeError):
-        return os.path.basename(path)[:-5] + " (unreadable)"
+            preset = json.load(f)
+        return preset if isinstance(preset, dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
+def preset_label(preset, file_stem):
+    """What the menu shows: "label", else "name" with a capital, else the file's name."""
+    name = preset.get("label") or str(preset.get("name") or file_stem)
+    return name[:1].upper() + name[1:]
+
+
+def _label(path):
+    preset, stem = _read_display(path), os.path.basename(path)[:-5]
+    return preset_label(preset, stem) if preset else stem + " (unreadable)"
+
+
+def preset_tooltip(path):
+    """Description and source of a preset, for its menu item's tooltip."""
+    preset = _read_display(path)
+    parts = [str(preset.get(key)) for key in ("description", "source") if preset.get(key)]
+    return ". Source: ".join(parts) if parts else path
 
 
 def read_preset(path):
@@ -111,6 +136,12 @@ def apply_preset(material, preset):
     # The explicit-fiber reference's scattering parameters (what a preset was fitted against);
     # the add-on renders the BYSDF, which does not read them.
     values.pop("fiber", None)
+    if model in parameters.ARTIST_MODELS:
+        artist_names = {p["name"] for p in parameters.artist_parameters()}
+        artist = {k: values.pop(k) for k in list(values) if k in artist_names}
+        _apply_values(settings.artist, parameters.artist_parameters(), artist, warnings)
+        if "color" in artist:
+            settings.use_color = True
     _apply_values(getattr(settings, "params_" + model), parameters.parameters(model), values, warnings)
     if isinstance(geometry, dict) and model in parameters.YARN_GEOMETRY_MODELS:
         if "preset" in geometry:
@@ -124,6 +155,8 @@ def apply_preset(material, preset):
         warnings.append("'mode' is a render setting now (Render Properties > Purl > Scale); ignored")
     if "color_attribute" in extra:
         settings.color_attribute = str(extra["color_attribute"])
+    settings.preset_label = preset_label(preset, "preset")
+    settings.preset_description = str(preset.get("description") or "")
     return warnings
 
 
@@ -134,10 +167,12 @@ def preset_from_material(material, name, description=""):
     for parameter in parameters.parameters(settings.model):
         result_material[parameter["name"]] = parameters.value_for_export(
             parameter, getattr(values, parameter["name"]))
+    if settings.model in parameters.ARTIST_MODELS:
+        result_material.update(artist_values(material))
     if settings.model in parameters.YARN_GEOMETRY_MODELS and parameters.yarn_geometry():
         result_material["yarn"] = {p["name"]: parameters.value_for_export(p, getattr(settings.yarn_geometry, p["name"]))
                                    for p in parameters.yarn_geometry()}
-    return {"name": name, "description": description,
+    return {"name": name, "label": name, "description": description,
             "source": "saved from Blender material '{}'".format(material.name),
             "material": result_material,
             "blender": {"color_attribute": settings.color_attribute}}
@@ -167,6 +202,10 @@ class PURL_OT_preset_apply(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         return getattr(context, "material", None) is not None
+
+    @classmethod
+    def description(cls, context, properties):
+        return preset_tooltip(properties.filepath) if properties.filepath else cls.bl_description
 
     def execute(self, context):
         try:

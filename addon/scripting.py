@@ -1,5 +1,6 @@
 """Rendering from scripts: one function and one operator, both independent of the add-on's
-installed name, for `blender -b file.blend --python-expr ...` and render-farm jobs.
+installed name, for `blender -b file.blend --python-expr ...` and render-farm jobs, and the check
+a farm task runs before rendering (docs/farm.md).
 
     bpy.ops.purl.render_to_file(filepath="//yarn.png")      # from any script
 """
@@ -54,6 +55,24 @@ def render_to_file(filepath, scene=None, frame=None):
     if errors:
         raise RuntimeError("; ".join(errors))
     return path
+
+
+def missing_input_files(scene):
+    """The files a Purl render of `scene` would read that are not on this machine. Purl reads
+    nothing outside the .blend but the world's images (Environment Texture), so those that are
+    neither packed nor found; the export would only warn about them and render a white world,
+    which on a render farm must stop the task instead."""
+    world = scene.world
+    nodes = world.node_tree.nodes if world is not None and world.node_tree is not None else []
+    missing = []
+    for node in nodes:
+        image = getattr(node, "image", None)
+        if image is None or image.packed_file is not None or image.source != "FILE":
+            continue
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        if not os.path.isfile(path):
+            missing.append(path)
+    return missing
 
 
 class PURL_OT_render_to_file(bpy.types.Operator):

@@ -4,7 +4,9 @@ import bpy
 from . import native, parameters
 from .compat import uses_nodes
 from .engine import PurlRenderEngine
+from .export.hair_color import hair_color
 from .presets import PURL_MT_presets, PURL_OT_preset_save
+from .properties import SIGN_SUFFIX
 
 ENGINE = PurlRenderEngine.bl_idname
 
@@ -41,20 +43,25 @@ class PURL_PT_render(PurlPanel, bpy.types.Panel):
             layout.label(text="purlcore {}".format(getattr(native.purlcore(), "__version__", "?")))
         settings = context.scene.purl
         layout.prop(settings, "samples")
+        layout.prop(settings, "preview_samples")
         row = layout.row(align=True)
         row.prop(settings, "seed")
         row.prop(settings, "use_animated_seed", text="", icon="TIME")
         layout.prop(settings, "max_depth")
         layout.prop(settings, "clamp")
+        layout.prop(settings, "filter_glossy")
+        layout.prop(settings, "use_denoise")
         layout.prop(settings, "multiscale_mode")
         layout.prop(settings, "ply_method")
         layout.prop(context.scene.render, "film_transparent")
-        layout.prop(settings, "use_cycles_composite")
+        layout.prop(settings, "use_cycles_composite", text="Cycles Composite")  # fits the default width
         if settings.use_cycles_composite:
             layout.prop(settings, "cycles_samples")
 
 
 class PURL_PT_material(PurlPanel, bpy.types.Panel):
+    """The yarn in an artist's terms: preset, model, yarn colour, sheen, softness, translucency.
+    The physics parameters are in the Advanced sub-panel (docs/artist-controls.md)."""
     bl_label = "Yarn"
     bl_context = "material"
 
@@ -66,9 +73,10 @@ class PURL_PT_material(PurlPanel, bpy.types.Panel):
         layout = self.layout
         if not _native_status(layout):
             return
-        settings = context.material.purl
+        material = context.material
+        settings = material.purl
         row = layout.row(align=True)
-        row.menu(PURL_MT_presets.bl_idname, text="Presets", icon="PRESET")
+        row.menu(PURL_MT_presets.bl_idname, text=settings.preset_label or "Presets", icon="PRESET")
         row.operator(PURL_OT_preset_save.bl_idname, text="", icon="ADD")
         if settings.model == "bysdf":
             row.operator("purl.fit_to_image", text="", icon="IMAGE_DATA")  # addon/fit.py
@@ -78,23 +86,63 @@ class PURL_PT_material(PurlPanel, bpy.types.Panel):
         if values is None:
             layout.label(text="Unknown model '{}'".format(settings.model), icon="ERROR")
             return
-        column = layout.column()
-        for parameter in parameters.parameters(settings.model):
-            if not parameters.is_ply_color(parameter):
-                column.prop(values, parameter["name"])
+        if settings.model in parameters.ARTIST_MODELS:
+            _draw_artist_controls(layout, material)
+        else:
+            column = layout.column()
+            for parameter in parameters.parameters(settings.model):
+                if not parameters.is_ply_color(parameter):
+                    column.prop(values, parameter["name"])
         layout.prop(settings, "color_attribute", icon="GROUP_VCOL")
         # Same settings in Cycles through the OSL shader (cycles_setup.py, docs/osl.md).
         layout.operator("purl.setup_cycles", icon="NODE_MATERIAL")
 
 
+def _draw_artist_controls(layout, material):
+    settings = material.purl
+    row = layout.row(heading="Yarn Colour")
+    row.prop(settings, "use_color", text="")
+    sub = row.row()
+    sub.active = settings.use_color
+    sub.prop(settings.artist, "color", text="")
+    if not settings.use_color:
+        color, source = hair_color(material)
+        if color is not None:
+            layout.label(text="Colour from " + source, icon="INFO")
+    for parameter in parameters.artist_parameters():
+        if parameter["name"] != "color":
+            layout.prop(settings.artist, parameter["name"])
+
+
+def _draw_parameters(layout, values, declarations):
+    """Physics parameters with the label inside each field, where the whole width leaves room for
+    a label and its unit; a sign (is_sign) as a Left/Right choice, a colour beside its label."""
+    column = layout.column(align=False)
+    for parameter in declarations:
+        name = parameter["name"]
+        if parameter.get("is_sign") or parameter.get("is_color"):
+            row = column.split(factor=0.5)
+            row.label(text=parameters.label(parameter))
+            if parameter.get("is_sign"):
+                row.row(align=True).prop(values, name + SIGN_SUFFIX, expand=True)
+            else:
+                row.prop(values, name, text="")
+        else:
+            column.prop(values, name)
+
+
 COUNT = parameters.PLY_COLOR_PREFIX + "count"
 
 
-class PURL_PT_material_plies(PurlPanel, bpy.types.Panel):
-    bl_label = "Ply Colours"
+class YarnSubPanel(PurlPanel):
+    """A closed sub-panel of the Yarn panel."""
     bl_context = "material"
     bl_parent_id = "PURL_PT_material"
     bl_options = {"DEFAULT_CLOSED"}
+
+
+class PURL_PT_material_plies(YarnSubPanel, bpy.types.Panel):
+    bl_label = "Ply Colours"
 
     @classmethod
     def poll(cls, context):
@@ -117,11 +165,8 @@ class PURL_PT_material_plies(PurlPanel, bpy.types.Panel):
                 grid.prop(values, name, text="")
 
 
-class PURL_PT_material_geometry(PurlPanel, bpy.types.Panel):
+class PURL_PT_material_geometry(YarnSubPanel, bpy.types.Panel):
     bl_label = "Yarn Geometry"
-    bl_context = "material"
-    bl_parent_id = "PURL_PT_material"
-    bl_options = {"DEFAULT_CLOSED"}
 
     @classmethod
     def poll(cls, context):
@@ -129,11 +174,21 @@ class PURL_PT_material_geometry(PurlPanel, bpy.types.Panel):
                 and bool(parameters.yarn_geometry()))
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        geometry = context.material.purl.yarn_geometry
-        for parameter in parameters.yarn_geometry():
-            layout.prop(geometry, parameter["name"])
+        _draw_parameters(self.layout, context.material.purl.yarn_geometry, parameters.yarn_geometry())
+
+
+class PURL_PT_material_advanced(YarnSubPanel, bpy.types.Panel):
+    """The BYSDF's physics parameters (docs/parameters.md); the artist controls act on top."""
+    bl_label = "Advanced"
+
+    @classmethod
+    def poll(cls, context):
+        return PURL_PT_material.poll(context) and context.material.purl.model in parameters.ARTIST_MODELS
+
+    def draw(self, context):
+        settings = context.material.purl
+        _draw_parameters(self.layout, getattr(settings, "params_" + settings.model),
+                         [p for p in parameters.parameters(settings.model) if not parameters.is_ply_color(p)])
 
 
 class PURL_PT_light(PurlPanel, bpy.types.Panel):
@@ -197,7 +252,7 @@ class PURL_PT_world(PurlPanel, bpy.types.Panel):
 
 
 classes = (PURL_PT_render, PURL_PT_material, PURL_PT_material_plies, PURL_PT_material_geometry,
-           PURL_PT_light, PURL_PT_world)
+           PURL_PT_material_advanced, PURL_PT_light, PURL_PT_world)
 
 # Blender's own panels that make sense for Purl: output, camera, object data, hair particles,
 # physics (cloth simulations drive yarns). Light panels are left out: PURL_PT_light shows what
@@ -209,7 +264,7 @@ _BUILTIN_PANEL_PREFIXES = (
     "DATA_PT_custom_props", "DATA_PT_CURVES_attributes", "DATA_PT_curves_surface",
     "DATA_PT_mesh_attributes", "DATA_PT_vertex_groups", "DATA_PT_shape_keys", "DATA_PT_uv_texture",
     "DATA_PT_customdata", "DATA_PT_texture_space", "PARTICLE_", "PHYSICS_", "OBJECT_PT_",
-    "MATERIAL_PT_custom_props", "EEVEE_MATERIAL_PT_context_material", "WORLD_PT_context_world",
+    "MATERIAL_PT_custom_props", "MATERIAL_PT_preview", "EEVEE_MATERIAL_PT_context_material", "WORLD_PT_context_world",
     "WORLD_PT_custom_props",
 )
 _BUILTIN_PANEL_EXCLUDED = ("_dof", "_passes")  # depth of field and other engines' passes

@@ -19,6 +19,7 @@ import os
 import statistics
 import sys
 
+import purl_worker  # bench/, beside this file
 import purlcore
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -29,10 +30,7 @@ def scene_variants(scale):
         bysdf = json.load(f)
     bysdf["film"]["width"] = max(8, int(bysdf["film"]["width"] * scale))
     bysdf["film"]["height"] = max(8, int(bysdf["film"]["height"] * scale))
-    placeholder = copy.deepcopy(bysdf)
-    for yarn in placeholder["yarns"]:
-        color = yarn["material"].get("body_transmission_albedo", [0.8, 0.8, 0.8])
-        yarn["material"] = {"model": "placeholder", "color": color}
+    placeholder = purl_worker.placeholder_materials(copy.deepcopy(bysdf))
     return {"bysdf": bysdf, "placeholder": placeholder}
 
 

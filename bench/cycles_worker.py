@@ -32,6 +32,8 @@ import numpy as np
 
 import bpy
 
+import worker_requests  # bench/, beside this file
+
 
 def read_bcc(path):
     """Control points (list of (n, 3) arrays) and closed flags of a Z-up 'BS' BCC file."""
@@ -82,7 +84,27 @@ def look_at_matrix(position, target):
     return m
 
 
-def build_scene(scene, curves, closed, radii, material, threads):
+def curve_keys(curves_path, radii_path):
+    """Cycles' keys (points, radii) per curve: the B-spline of a BCC file from export-explicit
+    sampled at knots and half-way, or keys given as they are in an .npz (bench/yarn_keys.py:
+    "points" (N, 3), "radii" (N,), "counts" keys per curve)."""
+    if curves_path.endswith(".npz"):
+        data = np.load(curves_path)
+        ends = np.cumsum(data["counts"])[:-1]
+        return np.split(data["points"].astype(np.float64), ends), np.split(data["radii"].astype(np.float64), ends)
+    curves, closed = read_bcc(curves_path)
+    radii = np.fromfile(radii_path, "<f4").astype(np.float64)
+    if len(radii) != sum(len(c) for c in curves):
+        raise SystemExit("%s: %d radii for %d control points" % (radii_path, len(radii), sum(len(c) for c in curves)))
+    samples = [bspline_samples(p, c) for p, c in zip(curves, closed)]
+    radius_samples, start = [], 0
+    for p, c in zip(curves, closed):
+        radius_samples.append(bspline_samples(radii[start:start + len(p)], c))
+        start += len(p)
+    return samples, radius_samples
+
+
+def build_scene(scene, samples, radius_samples, threads):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     s = bpy.context.scene
     s.render.engine = "CYCLES"
@@ -139,24 +161,19 @@ def build_scene(scene, curves, closed, radii, material, threads):
         ob.matrix_world = look_at_matrix(l["position"], l.get("look_at", [0, 0, 0]))
         s.collection.objects.link(ob)
 
-    samples = [bspline_samples(p, c) for p, c in zip(curves, closed)]
-    radius_samples, start = [], 0
-    for p, c in zip(curves, closed):
-        radius_samples.append(bspline_samples(radii[start:start + len(p)], c))
-        start += len(p)
     hair = bpy.data.hair_curves.new("Yarns")
     hair.add_curves([len(p) for p in samples])
     hair.attributes["position"].data.foreach_set("vector", np.concatenate(samples).astype(np.float32).ravel())
     if "radius" not in hair.attributes:
         hair.attributes.new("radius", "FLOAT", "POINT")
     hair.attributes["radius"].data.foreach_set("value", np.concatenate(radius_samples).astype(np.float32))
-    hair.materials.append(hair_material(scene, material))
+    hair.materials.append(hair_material(scene))
     ob = bpy.data.objects.new("Yarns", hair)
     s.collection.objects.link(ob)
     return s, sum(len(p) for p in samples)
 
 
-def hair_material(scene, material):
+def hair_material(scene):
     """Principled Hair (Chiang) coloured with the BYSDF's body reflection albedo: the fiber
     BCSDF's transmission colour (brighter) made Cycles' yarn about 8x brighter than Purl's."""
     desc = scene["yarns"][0].get("material", {})
@@ -219,58 +236,44 @@ def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene")
-    parser.add_argument("--curves", required=True)
-    parser.add_argument("--radii", required=True)
-    parser.add_argument("--material", default="fiber", choices=["ply", "fiber"])
-    parser.add_argument("--series", required=True)
-    parser.add_argument("--reference-spp", type=int, default=0)
-    parser.add_argument("--repeats", type=int, default=1)
-    parser.add_argument("--threads", type=int, default=0)
-    parser.add_argument("--out", required=True)
+    parser.add_argument("--curves", required=True, help="BCC file from purl export-explicit, or keys as .npz")
+    parser.add_argument("--radii", default="", help="radius side file of a BCC file")
+    parser.add_argument("--material", default="fiber", choices=["ply", "fiber", "yarn"],
+                        help="which curves these are (names the method: cycles-<material>)")
+    worker_requests.add_arguments(parser)
     args = parser.parse_args(argv)
 
     with open(args.scene, encoding="utf-8") as f:
         scene = json.load(f)
-    curves, closed = read_bcc(args.curves)
-    radii = np.fromfile(args.radii, "<f4").astype(np.float64)
-    if len(radii) != sum(len(c) for c in curves):
-        raise SystemExit("%s: %d radii for %d control points" % (args.radii, len(radii), sum(len(c) for c in curves)))
+    samples, radius_samples = curve_keys(args.curves, args.radii)
     start = time.perf_counter()
-    s, keys = build_scene(scene, curves, closed, radii, args.material, args.threads)
+    s, keys = build_scene(scene, samples, radius_samples, args.threads)
     bpy.app.handlers.render_stats.append(on_stats)
     work = tempfile.mkdtemp(prefix="purl-cycles-")
     render(s, 1, 0, work)  # warm-up: syncs the scene and builds the BVH once
     setup_seconds = time.perf_counter() - start
 
-    images, series = {}, []
-    for spp in [int(v) for v in args.series.split(",")]:
-        runs = []
-        for r in range(args.repeats):
-            image, stats = render(s, spp, 101 + 17 * r, work)
-            if r == 0:
-                images["spp%d" % spp] = image
-            runs.append(stats)
-        series.append({"spp": spp, "runs": runs})
-    reference = None
-    if args.reference_spp > 0:
-        half = max(1, args.reference_spp // 2)
-        a, sa = render(s, half, 9001, work)
-        b, sb = render(s, half, 9002, work)
-        images["reference_a"], images["reference_b"] = a, b
-        reference = {"spp": 2 * half, "runs": [sa, sb]}
-    np.savez_compressed(args.out + ".npz", **images)
+    record = worker_requests.Record()
+
+    def run(request):
+        image, stats = render(s, request["spp"], request["seed"], work)
+        record.add(request, image, stats)
+        return stats
+
+    worker_requests.run_all(args, run, {"setup_seconds": setup_seconds})
+    np.savez_compressed(args.out + ".npz", **record.images)
     summary = {
         "method": "cycles-" + args.material,
         "model": args.material,
         "setup_seconds": setup_seconds,
-        "series": series,
-        "reference": reference,
+        "series": record.series,
+        "reference": record.reference,
         "peak_resident_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
         "cycles_peak_bytes": PEAK["bytes"] or None,
         "acceleration_bytes": None,
         "shading_bytes": None,
         "control_points": keys,
-        "curves": len(curves),
+        "curves": len(samples),
         "build_seconds": setup_seconds,
         "blender": bpy.app.version_string,
     }

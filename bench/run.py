@@ -4,6 +4,8 @@ counts, then writes charts and a results table (bench/report.py). See docs/bench
 
   python3 bench/run.py                 full suite into bench/results/ (about 30-45 min, 2 cores)
   python3 bench/run.py --quick         whole pipeline on one tiny scene (CI; under 2 min)
+  python3 bench/run.py --production    production tier into bench/results-production/ (under an hour;
+                                       320 x 240 close-ups, methods interleaved: bench/production.py)
   python3 bench/run.py --report-only   redraw charts and table from the last run's files
 
 Options: --build-dir (where purl and purlcore are; default build), --out, --threads,
@@ -56,6 +58,19 @@ def quick_suite():
              ["bysdf-auto", "ply", "fiber", "trace", "cycles-ply"])]
 
 
+def shared_model(path):
+    """Scenes find the shared cloth models (shared/data) beside the repository; a git worktree sits
+    deeper, so the same file is looked for beside each folder above the repository too."""
+    parts = pathlib.PurePath(path).parts
+    if os.path.exists(path) or "shared" not in parts:
+        return path
+    inside = pathlib.PurePath(*parts[len(parts) - 1 - parts[::-1].index("shared"):])
+    for folder in ROOT.parents:
+        if (folder / inside).exists():
+            return str(folder / inside)
+    return path
+
+
 def prepared_scene(path, size, work):
     """The scene with the benchmark's film size and absolute file paths, in `work`."""
     with open(path, encoding="utf-8") as f:
@@ -64,7 +79,7 @@ def prepared_scene(path, size, work):
     base = os.path.dirname(os.path.abspath(path))
     for yarn in scene.get("yarns", []):
         if "bcc" in yarn and not os.path.isabs(yarn["bcc"]):
-            yarn["bcc"] = os.path.normpath(os.path.join(base, yarn["bcc"]))
+            yarn["bcc"] = shared_model(os.path.normpath(os.path.join(base, yarn["bcc"])))
     out = work / "scene.json"
     out.write_text(json.dumps(scene, indent=1), encoding="utf-8")
     return out
@@ -89,32 +104,48 @@ def last_error_line(p):
     return lines[-1][:300] if lines else "exit code %d" % p.returncode
 
 
-def run_method(scene_file, method, series, reference_spp, args, work, log):
-    """Runs one method; returns None on success or a one-line reason it did not run."""
-    out = work / method
-    common = ["--series", ",".join(map(str, series)), "--reference-spp", str(reference_spp),
-              "--repeats", str(args.repeats), "--threads", str(args.threads), "--out", str(out)]
-    trace_only = method.startswith("trace")
-    if trace_only:  # the baseline needs times only, no converged image
-        common[3] = "0"
-    if method.startswith("cycles-"):
-        if args.no_cycles:
-            return "skipped (--no-cycles)"
-        if not BPY_PYTHON.exists():
-            return "skipped: no bpy venv at %s (scripts/test_blender.sh bpy makes it)" % BPY_PYTHON.parent.parent
-        model = method.split("-", 1)[1]
+def worker_command(scene_file, method, args, work, log):
+    """(command, environment) of the worker process that renders `method`, or a one-line reason it
+    cannot run. Cycles methods first write the curves Cycles traces (ply/fiber: purl
+    export-explicit; yarn: the scene's own centre-lines, bench/yarn_keys.py)."""
+    out = ["--threads", str(args.threads), "--out", str(work / method)]
+    if not method.startswith("cycles-"):
+        env = dict(os.environ, PYTHONPATH=str(args.build_dir))
+        return [sys.executable, str(BENCH / "purl_worker.py"), str(scene_file), "--method", method] + out, env
+    if args.no_cycles:
+        return "skipped (--no-cycles)"
+    if not BPY_PYTHON.exists():
+        return "skipped: no bpy venv at %s (scripts/test_blender.sh bpy makes it)" % BPY_PYTHON.parent.parent
+    model = method.split("-", 1)[1]
+    if model == "yarn":
+        curves, radii = work / "yarn_keys.npz", None
+        try:
+            import yarn_keys
+            yarn_keys.write_yarn_keys(scene_file, curves, args.build_dir / "purl", work)
+        except (SystemExit, subprocess.CalledProcessError, OSError) as e:
+            return "failed: yarn keys: %s" % e
+    else:
         curves = work / (model + ".bcc")
+        radii = curves.with_suffix(".radii")
         p, _ = run_logged([str(args.build_dir / "purl"), "export-explicit", str(scene_file), "--model", model,
                            "-o", str(curves)], log=log)
         if p.returncode != 0:
             return "failed: export-explicit: " + last_error_line(p)
-        cmd = [str(BPY_PYTHON), str(BENCH / "cycles_worker.py"), str(scene_file), "--curves", str(curves),
-               "--radii", str(curves.with_suffix(".radii")), "--material", model] + common
-        p, _ = run_logged(cmd, log=log)
-    else:
-        env = dict(os.environ, PYTHONPATH=str(args.build_dir))
-        cmd = [sys.executable, str(BENCH / "purl_worker.py"), str(scene_file), "--method", method] + common
-        p, _ = run_logged(cmd, env=env, log=log)
+    cmd = [str(BPY_PYTHON), str(BENCH / "cycles_worker.py"), str(scene_file), "--curves", str(curves),
+           "--material", model] + (["--radii", str(radii)] if radii else []) + out
+    return cmd, None
+
+
+def run_method(scene_file, method, series, reference_spp, args, work, log):
+    """Runs one method in one process; returns None on success or a one-line reason it did not run."""
+    command = worker_command(scene_file, method, args, work, log)
+    if isinstance(command, str):
+        return command
+    cmd, env = command
+    trace_only = method.startswith("trace")  # the baseline needs times only, no converged image
+    cmd += ["--series", ",".join(map(str, series)), "--reference-spp", str(0 if trace_only else reference_spp),
+            "--repeats", str(args.repeats)]
+    p, _ = run_logged(cmd, env=env, log=log)
     if p.returncode != 0:
         return "failed: " + last_error_line(p)
     return None
@@ -181,11 +212,15 @@ def merged_plan(out, plan):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--production", action="store_true",
+                        help="the production tier: 320 x 240 close-ups, methods interleaved (bench/production.py)")
     parser.add_argument("--report-only", action="store_true")
     parser.add_argument("--build-dir", default=str(ROOT / "build"))
-    parser.add_argument("--out", default=None, help="default bench/results (quick: a temporary folder)")
+    parser.add_argument("--out", default=None,
+                        help="default bench/results (quick: a temporary folder; production: bench/results-production)")
     parser.add_argument("--threads", type=int, default=2)
-    parser.add_argument("--repeats", type=int, default=None, help="renders per sample count (default 3; quick 1)")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help="renders per sample count (default 3; quick 1; production: production.ROUNDS)")
     parser.add_argument("--scenes", default="", help="comma-separated scene names to run")
     parser.add_argument("--methods", default="", help="comma-separated method names to run")
     parser.add_argument("--no-cycles", action="store_true")
@@ -194,11 +229,13 @@ def main():
     args.build_dir = pathlib.Path(args.build_dir).resolve()
     args.repeats = args.repeats or (1 if args.quick else 3)
     out = pathlib.Path(args.out) if args.out else (
-        pathlib.Path(tempfile.mkdtemp(prefix="purl-bench-quick-")) if args.quick else BENCH / "results")
+        pathlib.Path(tempfile.mkdtemp(prefix="purl-bench-quick-")) if args.quick else
+        BENCH / ("results-production" if args.production else "results"))
     out.mkdir(parents=True, exist_ok=True)
     runs = out / "runs"
 
-    import report  # bench/report.py, beside this file
+    import production  # bench/production.py and bench/report.py, beside this file
+    import report
 
     if args.report_only:
         report.write_report(out)
@@ -207,7 +244,8 @@ def main():
         if not any(args.build_dir.glob(needed.split(".cpython")[0] + "*")):
             sys.exit("bench: %s not found in %s; build it first (scripts/build.sh)" % (needed, args.build_dir))
 
-    suite = quick_suite() if args.quick else full_suite()
+    sys.path.insert(0, str(args.build_dir))  # purlcore, for the Cycles yarn keys
+    suite = quick_suite() if args.quick else production.production_suite(ROOT) if args.production else full_suite()
     only_scenes = set(filter(None, args.scenes.split(",")))
     only_methods = set(filter(None, args.methods.split(",")))
     machine = describe_machine(args)
@@ -222,24 +260,38 @@ def main():
             shutil.rmtree(work)  # a method filter re-runs some methods and keeps the others
         work.mkdir(parents=True, exist_ok=True)
         scene_file = prepared_scene(path, size, work)
+        machine.setdefault("load_during", []).append(round(os.getloadavg()[0], 1))  # at each scene's start
         outcomes = {}
-        for method in methods:
-            if only_methods and method not in only_methods:
-                continue
+        methods = [m for m in methods if not only_methods or m in only_methods]
+        if args.production:
             t0 = time.perf_counter()
-            problem = run_method(scene_file, method, series, reference_spp, args, work, log)
-            outcomes[method] = problem
-            print("bench: %-15s %-13s %6.1f s  %s" % (name, method, time.perf_counter() - t0, problem or "ok"),
-                  file=sys.stderr, flush=True)
+            outcomes = production.run_scene(
+                scene_file, methods, series, reference_spp, production.ROUNDS,
+                lambda method: worker_command(scene_file, method, args, work, log), log, TIMEOUT_SECONDS)
+            print("bench: %-15s %6.1f s  %s" % (name, time.perf_counter() - t0, ", ".join(
+                "%s %s" % (m, p or "ok") for m, p in outcomes.items())), file=sys.stderr, flush=True)
+        else:
+            for method in methods:
+                t0 = time.perf_counter()
+                problem = run_method(scene_file, method, series, reference_spp, args, work, log)
+                outcomes[method] = problem
+                print("bench: %-15s %-13s %6.1f s  %s" % (name, method, time.perf_counter() - t0, problem or "ok"),
+                      file=sys.stderr, flush=True)
         plan.append({"scene": name, "source": str(path.relative_to(ROOT)), "film": list(size), "series": series,
                      "reference_spp": reference_spp, "methods": outcomes})
-    if not args.quick and not args.no_stability:
+    if not args.quick and not args.production and not args.no_stability:
         stability_table(out, log)
     machine["load_after"] = os.getloadavg()[0]
     machine["wall_minutes"] = (time.perf_counter() - started) / 60
-    machine["mode"] = "quick" if args.quick else "full"
-    (out / "plan.json").write_text(json.dumps({"machine": machine, "scenes": merged_plan(out, plan)}, indent=1),
-                                   encoding="utf-8")
+    # CPU time of the workers (all threads): on a loaded machine the wall time says little, while
+    # this over the thread count is about what the run takes on an idle machine.
+    children = os.times()
+    machine["worker_cpu_minutes"] = (children.children_user + children.children_system) / 60
+    machine["mode"] = "quick" if args.quick else "production" if args.production else "full"
+    written = {"machine": machine, "scenes": merged_plan(out, plan)}
+    if args.production:
+        written["close_ups"] = production.CLOSE_UPS
+    (out / "plan.json").write_text(json.dumps(written, indent=1), encoding="utf-8")
     report.write_report(out)
     print("bench: wrote %s (%.1f min)" % (out / "results.md", machine["wall_minutes"]), file=sys.stderr)
     failed = ["%s/%s: %s" % (s["scene"], m, p) for s in plan for m, p in s["methods"].items()

@@ -18,4 +18,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-python3 -m pip install -q --disable-pip-version-check numpy "pybind11>=2.12" pytest matplotlib flip-evaluator >/dev/null
+# pyoidn: Intel Open Image Denoise 2 for --denoise (Debian 12 has no OIDN; Purl opens the
+# library it installs at run time, docs/denoising.md).
+python3 -m pip install -q --disable-pip-version-check numpy "pybind11>=2.12" pytest matplotlib flip-evaluator \
+    "pyoidn>=2.5,<3" >/dev/null

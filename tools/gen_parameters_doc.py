@@ -10,7 +10,8 @@ DOC = os.path.join(HERE, "..", "docs", "parameters.md")
 
 
 def table(rows):
-    lines = ["| name | unit | components | range | default | meaning |", "|---|---|---|---|---|---|"]
+    lines = ["| name | Blender label | unit | components | range | default | meaning |",
+             "|---|---|---|---|---|---|---|"]
     for p in rows:
         default = p["default"]
         if isinstance(default, (tuple, list)):
@@ -18,8 +19,10 @@ def table(rows):
         else:
             default = f"{default:g}"
         unit = p["unit"] or "—"
-        kind = "colour" if p["is_color"] else str(p["components"])
-        lines.append(f"| `{p['name']}` | {unit} | {kind} | {p['min']:g} … {p['max']:g} | {default} | {p['doc']} |")
+        kind = "colour" if p["is_color"] else "±1" if p.get("is_sign") else str(p["components"])
+        label = p.get("label") or "—"
+        lines.append(f"| `{p['name']}` | {label} | {unit} | {kind} | {p['min']:g} … {p['max']:g} | {default} | "
+                     f"{p['doc']} |")
     return lines + [""]
 
 
@@ -31,8 +34,14 @@ def render_markdown(purlcore):
         "The same tables drive the JSON scene reader, `purlcore.material_parameters()` and the Blender UI.",
         "",
     ]
+    labels = purlcore.material_model_labels()
     for model in purlcore.material_models():
-        lines += [f"## Material model `{model}`", ""] + table(purlcore.material_parameters(model))
+        lines += [f"## Material model `{model}` ({labels[model]})", ""] + table(purlcore.material_parameters(model))
+        if model == "bysdf":
+            lines += ["### Artist controls (model `bysdf`)", "",
+                      "On top of the parameters above, neutral at their defaults (`color` only acts when given); "
+                      "each meaning states its rule. See docs/artist-controls.md.", ""]
+            lines += table(purlcore.artist_parameters())
     lines += [
         "## Yarn geometry (`material.yarn`, model `bysdf`)",
         "",

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 from . import camera, lights, meshes, world, yarns
 from .materials import yarn_material
+from .transforms import placed_at
 from .problems import Problems
 
 # Text, surface and metaball objects reach the depsgraph as instanced meshes, so only meshes are read.
@@ -48,7 +49,9 @@ def render_settings(scene):
             "max_depth": int(settings.max_depth), "threads": int(threads),
             "clamp": float(settings.clamp),
             "multiscale": {"mode": settings.multiscale_mode.lower()},
-            "ply_method": settings.ply_method.lower()}
+            "ply_method": settings.ply_method.lower(),
+            "denoise": bool(settings.use_denoise),
+            "filter_glossy": float(settings.filter_glossy)}
 
 
 def _guarded(problems, ob, export, *args):
@@ -61,76 +64,112 @@ def _guarded(problems, ob, export, *args):
         return []
 
 
-def collect_yarns(depsgraph, problems):
-    """Every yarn-like object of the depsgraph as checked YarnCurves (world space)."""
-    render_mode = _is_render_mode(depsgraph)
+@dataclass
+class InstanceExport:
+    """What one object instance contributes: checked yarn sets (with their material objects
+    already converted, so a cached part keeps no Blender data), meshes and lights."""
+    yarns: list = field(default_factory=list)      # YarnCurves, world space
+    materials: list = field(default_factory=list)  # the scene format's material object per yarn set
+    material_names: set = field(default_factory=set)
+    meshes: list = field(default_factory=list)     # MeshTriangles
+    lights: list = field(default_factory=list)     # the scene format's light objects
+
+
+def instance_key(instance):
+    """Names an object instance across depsgraph updates: the object, or for an instance the
+    object that made it, the instanced object and its persistent id."""
+    ob = instance.object
+    name = ob.original.name if ob.original is not None else ob.name
+    if not instance.is_instance or instance.parent is None:
+        return (name,)
+    parent = instance.parent.original.name if instance.parent.original is not None else instance.parent.name
+    return (parent, name, tuple(instance.persistent_id))
+
+
+def export_instance(instance, problems, render_mode, view_layer, yarns_only=False):
+    """One object instance of the depsgraph as an InstanceExport."""
+    part = InstanceExport()
+    ob = instance.object
+    matrix = instance.matrix_world.copy()  # the iterator reuses its matrix
     found = []
-    for instance in depsgraph.object_instances:
-        ob = instance.object
-        matrix = instance.matrix_world.copy()  # the iterator reuses its matrix
-        if instance.show_particles and len(ob.particle_systems) > 0:
-            found += _guarded(problems, ob, yarns.particle_hair, ob, matrix, render_mode)
-        if not instance.show_self:
-            continue
+    if instance.show_particles and len(ob.particle_systems) > 0:
+        found += _guarded(problems, ob, yarns.particle_hair, ob, matrix, render_mode)
+    if instance.show_self:
+        original = ob.original if ob.original is not None else ob
         if ob.type == "CURVES":
             found += _guarded(problems, ob, yarns.hair_curves, ob, matrix, problems)
         elif ob.type == "CURVE":
             found += _guarded(problems, ob, yarns.curve_object, ob, matrix, problems)
-    return [y for y in (yarns.checked(y, problems) for y in found) if y is not None]
+        elif yarns_only:
+            pass
+        elif ob.type in MESH_TYPES and not (instance.is_instance and original.type == "CURVE"):
+            # (a curve's bevel tube is skipped: the curve is exported as yarn instead)
+            holdout = _is_holdout(original, view_layer)
+            part.meshes = _guarded(problems, ob, meshes.mesh_object, ob, matrix, holdout)
+        elif ob.type == "LIGHT":
+            light = _guarded(problems, ob, lights.export_light, ob, matrix, problems)
+            part.lights = [light] if light else []
+    part.yarns = [y for y in (yarns.checked(y, problems) for y in found) if y is not None]
+    part.materials = [yarn_material(y.material, problems) for y in part.yarns]
+    part.material_names = {y.material.name for y in part.yarns if y.material is not None}
+    return part
+
+
+def collect_yarns(depsgraph, problems):
+    """Every yarn-like object of the depsgraph as checked YarnCurves (world space)."""
+    render_mode = _is_render_mode(depsgraph)
+    return [y for instance in depsgraph.object_instances
+            for y in export_instance(instance, problems, render_mode, depsgraph.view_layer, yarns_only=True).yarns]
 
 
 def export_scene(depsgraph, size=None, temp_dir=None):
     """Exports the evaluated depsgraph. `size` overrides the film size (the engine's result size);
     `temp_dir` receives packed images written out for the native module."""
-    scene = depsgraph.scene
     problems = Problems()
-    arrays = {}
-    result = {"version": 1}
+    render_mode = _is_render_mode(depsgraph)
+    parts = [export_instance(instance, problems, render_mode, depsgraph.view_layer)
+             for instance in depsgraph.object_instances]
+    return assemble(depsgraph, parts, problems, size, temp_dir)
 
-    camera_object = scene.camera.evaluated_get(depsgraph) if scene.camera is not None else None
-    cam = camera.export_camera(camera_object, problems)
-    if cam is not None:
-        result["camera"] = cam
+
+def assemble(depsgraph, parts, problems, size=None, temp_dir=None, with_camera=True):
+    """The Export of instance exports plus the scene's camera (unless the caller brings its own
+    view, as the viewport does), film, render settings and world."""
+    scene = depsgraph.scene
+    result = {"version": 1}
+    if with_camera:
+        camera_object = scene.camera.evaluated_get(depsgraph) if scene.camera is not None else None
+        cam = camera.export_camera(camera_object, problems)
+        if cam is not None:
+            result["camera"] = cam
     result["film"] = camera.export_film(scene, size)
     result["render"] = render_settings(scene)
     result["world"] = world.export_world(scene.world, problems, temp_dir)
 
-    yarn_sets, stats = [], {"curves": 0, "points": 0, "triangles": 0, "lights": 0}
-    found_yarns = collect_yarns(depsgraph, problems)
-    for index, yarn in enumerate(found_yarns):
-        key = "yarn{}".format(index)
-        arrays[key] = yarn.arrays()
-        yarn_sets.append({"name": yarn.name, "arrays": key, "id": index + 1,
-                          "material": yarn_material(yarn.material, problems)})
-        stats["curves"] += yarn.curve_count
-        stats["points"] += len(yarn.points)
-
-    mesh_sets, light_list = [], []
-    view_layer = depsgraph.view_layer
-    for instance in depsgraph.object_instances:
-        ob = instance.object
-        if not instance.show_self:
-            continue
-        original = ob.original if ob.original is not None else ob
-        if ob.type in MESH_TYPES:
-            if instance.is_instance and original.type == "CURVE":
-                continue  # a curve's bevel tube: the curve is exported as yarn instead
-            holdout = _is_holdout(original, view_layer)
-            for mesh in _guarded(problems, ob, meshes.mesh_object, ob, instance.matrix_world.copy(), holdout):
-                key = "mesh{}".format(len(mesh_sets))
-                arrays[key] = mesh.arrays()
-                mesh_sets.append({"name": mesh.name, "arrays": key, "color": list(mesh.color),
-                                  "holdout": mesh.holdout})
-                stats["triangles"] += len(mesh.triangles)
-        elif ob.type == "LIGHT":
-            light = _guarded(problems, ob, lights.export_light, ob, instance.matrix_world.copy(), problems)
-            if light:
-                light_list.append(light)
+    arrays, yarn_sets, mesh_sets, light_list = {}, [], [], []
+    stats = {"curves": 0, "points": 0, "triangles": 0, "lights": 0}
+    sources = set()
+    for part in parts:
+        for yarn, material in zip(part.yarns, part.materials):
+            key = "yarn{}".format(len(yarn_sets))
+            arrays[key] = yarn.arrays()
+            yarn_sets.append({"name": yarn.name, "arrays": key, "id": len(yarn_sets) + 1,
+                              "matrix_world": placed_at(yarn.origin), "material": material})
+            stats["curves"] += yarn.curve_count
+            stats["points"] += len(yarn.points)
+            if yarn.source:
+                sources.add(yarn.source)
+        for mesh in part.meshes:
+            key = "mesh{}".format(len(mesh_sets))
+            arrays[key] = mesh.arrays()
+            mesh_sets.append({"name": mesh.name, "arrays": key, "matrix_world": placed_at(mesh.origin),
+                              "color": list(mesh.color), "holdout": mesh.holdout})
+            stats["triangles"] += len(mesh.triangles)
+        light_list += part.lights
     stats["lights"] = len(light_list)
-
     result["lights"] = light_list
     result["yarns"] = yarn_sets
     result["meshes"] = mesh_sets
     if not yarn_sets and not mesh_sets:
         problems.error(scene.name, "nothing to render: no yarn curves and no meshes are visible")
-    return Export(result, arrays, problems, stats, {y.source for y in found_yarns if y.source})
+    return Export(result, arrays, problems, stats, sources)

@@ -1,5 +1,6 @@
 """Yarn materials: the Purl settings stored on a Blender material, as the scene format's object."""
 from .. import parameters
+from .hair_color import hair_color
 
 
 def yarn_material(material, problems):
@@ -19,8 +20,30 @@ def yarn_material(material, problems):
         return result
     for parameter in parameters.parameters(model):
         result[parameter["name"]] = parameters.value_for_export(parameter, getattr(values, parameter["name"]))
+    if model in parameters.ARTIST_MODELS:
+        result.update(artist_values(material))
     geometry = parameters.yarn_geometry() if model in parameters.YARN_GEOMETRY_MODELS else []
     if geometry:
         result["yarn"] = {p["name"]: parameters.value_for_export(p, getattr(settings.yarn_geometry, p["name"]))
                           for p in geometry}
     return result
+
+
+def yarn_color(material):
+    """(colour or None, where it comes from): the Yarn Colour when it is on, else the colour of a
+    Principled Hair (or Hair) BSDF set up for Cycles, else None (the material's own albedos)."""
+    settings = material.purl
+    if settings.use_color:
+        return [float(c) for c in settings.artist.color], "Yarn Colour"
+    return hair_color(material)
+
+
+def artist_values(material):
+    """The artist controls as the scene format's keys ("color" only when there is a colour)."""
+    settings = material.purl
+    values = {p["name"]: parameters.value_for_export(p, getattr(settings.artist, p["name"]))
+              for p in parameters.artist_parameters() if p["name"] != "color"}
+    color, _ = yarn_color(material)
+    if color is not None:
+        values["color"] = color
+    return values

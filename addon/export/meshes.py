@@ -12,10 +12,11 @@ DEFAULT_COLOR = (0.8, 0.8, 0.8)
 @dataclass
 class MeshTriangles:
     name: str
-    vertices: np.ndarray   # float32 (V, 3), world space
+    vertices: np.ndarray   # float32 (V, 3), world space relative to `origin`
     triangles: np.ndarray  # int32 (T, 3)
     color: tuple
     holdout: bool
+    origin: np.ndarray     # float64 (3,), world space
 
     def arrays(self):
         return {"vertices": self.vertices, "triangles": self.triangles}
@@ -73,7 +74,7 @@ def mesh_object(ob, matrix_world, holdout_object):
         mesh.loop_triangles.foreach_get("material_index", material_index)
     finally:
         ob.to_mesh_clear()
-    vertices = transform_points(co.reshape(-1, 3), matrix_world)
+    vertices, origin = transform_points(co.reshape(-1, 3), matrix_world)
     triangles = triangles.reshape(-1, 3)
     result = []
     for index in np.unique(material_index):
@@ -82,5 +83,5 @@ def mesh_object(ob, matrix_world, holdout_object):
         subset = triangles[material_index == index]
         name = ob.name if len(result) == 0 and len(np.unique(material_index)) == 1 else \
             "{} ({})".format(ob.name, material.name if material else index)
-        result.append(MeshTriangles(name, vertices, subset, color, holdout or holdout_object))
+        result.append(MeshTriangles(name, vertices, subset, color, holdout or holdout_object, origin))
     return result

@@ -13,9 +13,19 @@ def to_row_major_list(matrix):
 
 
 def transform_points(points, matrix):
-    """(N, 3) points through a 4x4 affine matrix, returned as float32."""
+    """(N, 3) points through a 4x4 affine matrix: float32 points relative to the matrix's
+    translation, and that translation (float64 (3,)), which the scene entry gives back as its
+    matrix_world (`placed_at`). Purl composes the two in double: far from the world origin
+    float32 keeps only millimetres (at 1e4 m, two yarn radii)."""
     m = to_numpy(matrix) if not isinstance(matrix, np.ndarray) else matrix
-    return (points.astype(np.float64) @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
+    return (points.astype(np.float64) @ m[:3, :3].T).astype(np.float32), m[:3, 3].copy()
+
+
+def placed_at(origin):
+    """The scene format's matrix_world that moves points given relative to `origin` into place."""
+    m = np.identity(4)
+    m[:3, 3] = origin
+    return to_row_major_list(m)
 
 
 def uniform_scale(matrix):

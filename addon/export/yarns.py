@@ -1,10 +1,11 @@
 """Yarn centre-lines from Blender objects: hair Curves, particle hair and curve objects.
 
-Every function returns YarnCurves in world space, one per (object, basis, material), as the flat
-arrays that purlcore.RenderJob takes. Bulk data is read with foreach_get; only particle hair is read
+Every function returns YarnCurves in world space relative to their object's position (`origin`,
+exported as the set's matrix_world), one per (object, basis, material), as the flat arrays that
+purlcore.RenderJob takes. Bulk data is read with foreach_get; only particle hair is read
 point by point, because Blender has no bulk API for it.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -20,13 +21,14 @@ MIN_POINTS = {"bspline": 4, "catmull_rom": 4, "bezier": 4, "polyline": 2}
 class YarnCurves:
     name: str             # object name (and part), for reports
     basis: str            # "bspline", "catmull_rom", "bezier" or "polyline"
-    points: np.ndarray    # float32 (N, 3), world space
+    points: np.ndarray    # float32 (N, 3), world space relative to `origin`
     radii: np.ndarray     # float32 (N,), world space
     offsets: np.ndarray   # int32 (C + 1,): curve c is points[offsets[c]:offsets[c+1]]
     closed: np.ndarray    # bool (C,)
     material: object      # bpy.types.Material or None
     source: str = ""      # the original object's name (composite mode hides it from Cycles' camera)
     colors: np.ndarray = None  # float32 (C, 3) linear RGB per curve, or None
+    origin: np.ndarray = field(default_factory=lambda: np.zeros(3))  # float64 (3,), world space
 
     @property
     def curve_count(self):
@@ -41,15 +43,17 @@ class YarnCurves:
         return arrays
 
 
-def repeat_end_points(points, radii, offsets):
-    """Catmull-Rom through all points: BCC's convention skips the first and last, so repeat them."""
+def repeat_end_points(points, radii, offsets, closed=None):
+    """Catmull-Rom through all points: BCC's convention skips the first and last, so repeat them
+    (on the open curves only, when `closed` is given: a closed loop needs no extra points)."""
     counts = np.diff(offsets)
-    new_counts = counts + 2
+    extra = np.full(len(counts), 2) if closed is None else np.where(closed, 0, 2)
+    new_counts = counts + extra
     new_offsets = np.zeros(len(offsets), dtype=np.int32)
     np.cumsum(new_counts, out=new_offsets[1:])
     curve = np.repeat(np.arange(len(counts)), new_counts)
     local = np.arange(new_offsets[-1]) - new_offsets[:-1][curve]
-    source = offsets[:-1][curve] + np.clip(local - 1, 0, counts[curve] - 1)
+    source = offsets[:-1][curve] + np.clip(local - extra[curve] // 2, 0, counts[curve] - 1)
     return points[source], radii[source], new_offsets
 
 
@@ -107,8 +111,55 @@ def curve_colors(ob, data, offsets, problems, name):
     return np.ascontiguousarray(values, dtype=np.float32)
 
 
+# Blender's curve types (the CURVE-domain attribute "curve_type"; absent means Catmull-Rom).
+CATMULL_ROM, POLY, BEZIER, NURBS = 0, 1, 2, 3
+
+
+def _attribute_values(data, name, domain, dtype, width, count, default):
+    """An attribute as a numpy array of `count` x `width`, or `default` everywhere when absent."""
+    attribute = data.attributes.get(name)
+    if attribute is None or attribute.domain != domain:
+        return np.full((count, width) if width > 1 else count, default, dtype=dtype)
+    values = np.empty(count * width, dtype=dtype)
+    attribute.data.foreach_get("vector" if width == 3 else "value", values)
+    return values.reshape(-1, width) if width > 1 else values
+
+
+def select_curves(offsets, chosen):
+    """Point indices and new offsets of the curves `chosen` (bool per curve)."""
+    counts = np.diff(offsets)[chosen]
+    new_offsets = np.zeros(len(counts) + 1, dtype=np.int32)
+    np.cumsum(counts, out=new_offsets[1:])
+    starts = offsets[:-1][chosen]
+    points = np.repeat(starts - new_offsets[:-1], counts) + np.arange(new_offsets[-1])
+    return points, new_offsets
+
+
+def bezier_control_points(knots, left, right, radius, offsets, closed):
+    """Cubic Bezier control points [k0, right0, left1, k1, ...] of many curves at once: 3n+1 per
+    open curve of n knots, 3n per closed one (its last segment ends at k0). Radii vary linearly
+    along each segment, as thirds at the handles. Returns (points, radii, offsets)."""
+    n = len(knots)
+    curve = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    following = np.arange(n) + 1
+    last = offsets[1:][curve] - 1 == np.arange(n)
+    following[last] = offsets[:-1][curve[last]]  # wraps to the curve's first knot
+    points = np.stack([knots, right, left[following]], axis=1).reshape(-1, 3)
+    next_radius = radius[following]
+    radii = np.stack([radius, radius * (2 / 3) + next_radius / 3, radius / 3 + next_radius * (2 / 3)],
+                     axis=1).reshape(-1)
+    keep = np.ones(3 * n, dtype=bool)
+    open_last = np.flatnonzero(last & ~closed[curve])
+    keep[3 * open_last + 1] = keep[3 * open_last + 2] = False  # an open curve ends at its last knot
+    counts = 3 * np.diff(offsets) - np.where(closed, 0, 2)
+    new_offsets = np.zeros(len(offsets), dtype=np.int32)
+    np.cumsum(counts, out=new_offsets[1:])
+    return points[keep], radii[keep].astype(np.float32), new_offsets
+
+
 def hair_curves(ob, matrix_world, problems=None):
-    """A Curves object; Cycles renders each curve as Catmull-Rom through all its points."""
+    """A Curves object, one yarn set per curve type: Catmull-Rom (Cycles' hair: through all
+    points), poly, Bezier (with its handles) and uniform cubic NURBS, closed where `cyclic` is set."""
     data = ob.data
     n_points, n_curves = len(data.points), len(data.curves)
     if n_points == 0 or n_curves == 0:
@@ -121,13 +172,49 @@ def hair_curves(ob, matrix_world, problems=None):
     radius = data.attributes.get("radius")
     if radius is not None and radius.domain == "POINT" and radius.data_type == "FLOAT":
         radius.data.foreach_get("value", radii)
-    points = transform_points(positions.reshape(-1, 3), matrix_world)
+    points, origin = transform_points(positions.reshape(-1, 3), matrix_world)
     radii = radii * np.float32(uniform_scale(matrix_world))
     material = _first_material(ob)
     colors = curve_colors(ob, data, offsets, problems, color_attribute_name(material))
-    points, radii, offsets = repeat_end_points(points, radii, offsets)
-    return [YarnCurves(ob.name, "catmull_rom", points, radii, offsets,
-                       np.zeros(n_curves, dtype=bool), material, _original_name(ob), colors)]
+    types = _attribute_values(data, "curve_type", "CURVE", np.int32, 1, n_curves, CATMULL_ROM)
+    cyclic = _attribute_values(data, "cyclic", "CURVE", bool, 1, n_curves, False)
+    if np.any(types == NURBS):
+        # Uniform cubic NURBS (order 4, knots "Normal", weights 1) is exactly a uniform B-spline.
+        order = _attribute_values(data, "nurbs_order", "CURVE", np.int32, 1, n_curves, 4)
+        knots_mode = _attribute_values(data, "knots_mode", "CURVE", np.int32, 1, n_curves, 0)
+        weights = _attribute_values(data, "nurbs_weight", "POINT", np.float32, 1, n_points, 1.0)
+        rational = np.maximum.reduceat(np.abs(weights - 1.0), offsets[:-1]) > 1e-6
+        approximated = (types == NURBS) & ((order != 4) | (knots_mode != 0) | rational)
+        if np.any(approximated) and problems is not None:
+            problems.warning(ob.name, "{} NURBS curves are not uniform cubic (order 4, Normal knots, weight 1); "
+                             "they render as Catmull-Rom curves through their control points".format(
+                                 int(np.count_nonzero(approximated))))
+        types = np.where(approximated, CATMULL_ROM, types)
+    result = []
+    for kind in (CATMULL_ROM, POLY, BEZIER, NURBS):
+        chosen = types == kind
+        if not np.any(chosen):
+            continue
+        index, part_offsets = select_curves(offsets, chosen)
+        part_points, part_radii, closed = points[index], radii[index], cyclic[chosen]
+        if kind == CATMULL_ROM:
+            basis = "catmull_rom"
+            part_points, part_radii, part_offsets = repeat_end_points(part_points, part_radii, part_offsets, closed)
+        elif kind == BEZIER:
+            basis = "bezier"
+            # Relative to the same origin as the points: the same matrix.
+            left, _ = transform_points(
+                _attribute_values(data, "handle_left", "POINT", np.float32, 3, n_points, 0.0)[index], matrix_world)
+            right, _ = transform_points(
+                _attribute_values(data, "handle_right", "POINT", np.float32, 3, n_points, 0.0)[index], matrix_world)
+            part_points, part_radii, part_offsets = bezier_control_points(part_points, left, right, part_radii,
+                                                                          part_offsets, closed)
+        else:
+            basis = "polyline" if kind == POLY else "bspline"
+        name = ob.name if np.all(chosen) else "{} ({})".format(ob.name, basis.replace("_", "-"))
+        result.append(YarnCurves(name, basis, part_points, part_radii, part_offsets, closed.copy(), material,
+                                 _original_name(ob), colors[chosen] if colors is not None else None, origin))
+    return result
 
 
 # --- particle hair -----------------------------------------------------------------------------
@@ -186,21 +273,23 @@ def particle_hair(ob, matrix_world, render_mode):
             for step in range(steps):
                 points[row, step] = psys.co_hair(object=ob, particle_no=strand, step=step)
         points = _pad_short_paths(points)
-        points = transform_points(points.reshape(-1, 3), to_instance).reshape(points.shape)
+        flat_points, origin = transform_points(points.reshape(-1, 3), to_instance)
+        points = flat_points.reshape(points.shape)
         radii = _particle_radii(settings, points, uniform_scale(to_instance))
         offsets = (np.arange(len(strands) + 1) * steps).astype(np.int32)
         flat_points, flat_radii, offsets = repeat_end_points(points.reshape(-1, 3), radii.reshape(-1), offsets)
         material = _slot_material(ob, settings.material - 1)
         result.append(YarnCurves("{} / {}".format(ob.name, psys.name), "catmull_rom", flat_points,
-                                 flat_radii, offsets, np.zeros(len(strands), dtype=bool), material))
+                                 flat_radii, offsets, np.zeros(len(strands), dtype=bool), material,
+                                 origin=origin))
     return result
 
 
 # --- curve objects -------------------------------------------------------------------------
 
 def _bezier_spline(spline):
-    """Cubic Bezier control points [k0, right0, left1, k1, ...]; a cyclic spline gets its closing
-    segment written out. Radii vary linearly along each segment, as thirds at the handles."""
+    """Cubic Bezier control points of one spline (bezier_control_points); a cyclic spline stays
+    a closed curve."""
     n = len(spline.bezier_points)
     knots, right, left = (np.empty(n * 3, dtype=np.float32) for _ in range(3))
     radius = np.empty(n, dtype=np.float32)
@@ -208,17 +297,10 @@ def _bezier_spline(spline):
     spline.bezier_points.foreach_get("handle_right", right)
     spline.bezier_points.foreach_get("handle_left", left)
     spline.bezier_points.foreach_get("radius", radius)
-    knots, right, left = knots.reshape(-1, 3), right.reshape(-1, 3), left.reshape(-1, 3)
-    next_left, next_radius = np.roll(left, -1, axis=0), np.roll(radius, -1)
-    points = np.stack([knots, right, next_left], axis=1).reshape(-1, 3)
-    radii = np.stack([radius, radius * (2 / 3) + next_radius / 3,
-                      radius / 3 + next_radius * (2 / 3)], axis=1).reshape(-1)
-    if spline.use_cyclic_u:
-        points = np.concatenate([points, knots[:1]])
-        radii = np.concatenate([radii, radius[:1]])
-    else:
-        points, radii = points[:3 * (n - 1) + 1], radii[:3 * (n - 1) + 1]
-    return "bezier", points, radii, False
+    closed = bool(spline.use_cyclic_u) and n > 1
+    points, radii, _ = bezier_control_points(knots.reshape(-1, 3), left.reshape(-1, 3), right.reshape(-1, 3),
+                                             radius, np.array([0, n]), np.array([closed]))
+    return "bezier", points, radii, closed
 
 
 def _spline_points(spline):
@@ -232,10 +314,7 @@ def _spline_points(spline):
 
 def _poly_spline(spline):
     co, radius = _spline_points(spline)
-    points = co[:, :3]
-    if spline.use_cyclic_u and len(points) > 2:  # close the loop explicitly
-        points, radius = np.concatenate([points, points[:1]]), np.concatenate([radius, radius[:1]])
-    return "polyline", points, radius, False
+    return "polyline", co[:, :3].copy(), radius, bool(spline.use_cyclic_u) and len(co) > 2
 
 
 def _bspline_basis(knots, order, t):
@@ -323,12 +402,12 @@ def curve_object(ob, matrix_world, problems):
         counts = [len(points) for points, _, _ in parts]
         offsets = np.zeros(len(parts) + 1, dtype=np.int32)
         np.cumsum(counts, out=offsets[1:])
-        points = transform_points(np.concatenate([p for p, _, _ in parts]), matrix_world)
+        points, origin = transform_points(np.concatenate([p for p, _, _ in parts]), matrix_world)
         radii = np.concatenate([r for _, r, _ in parts]).astype(np.float32) * scale
         closed = np.array([c for _, _, c in parts], dtype=bool)
         name = ob.name if len(groups) == 1 else "{} ({})".format(ob.name, basis)
         result.append(YarnCurves(name, basis, points, radii, offsets, closed,
-                                 _slot_material(ob, material_index), _original_name(ob)))
+                                 _slot_material(ob, material_index), _original_name(ob), origin=origin))
     if not result:
         problems.warning(ob.name, "the curve has no points")
     return result
@@ -372,7 +451,6 @@ def checked(yarn, problems):
         offsets = np.zeros(len(kept_counts) + 1, dtype=np.int32)
         np.cumsum(kept_counts, out=offsets[1:])
         colors = yarn.colors[keep] if yarn.colors is not None else None
-        return YarnCurves(yarn.name, yarn.basis, yarn.points[point_keep], radii[point_keep],
-                          offsets, yarn.closed[keep], yarn.material, yarn.source, colors)
-    return YarnCurves(yarn.name, yarn.basis, yarn.points, radii, yarn.offsets, yarn.closed,
-                      yarn.material, yarn.source, yarn.colors)
+        return replace(yarn, points=yarn.points[point_keep], radii=radii[point_keep], offsets=offsets,
+                       closed=yarn.closed[keep], colors=colors)
+    return replace(yarn, radii=radii)

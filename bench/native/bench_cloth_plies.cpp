@@ -77,7 +77,8 @@ struct ClothSetup {
             rays.push_back(ray);
             hits.push_back(hit);
             const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
-            ply_hits.push_back(trace_plies(frames[hit.object][hit.curve], scene.yarns[hit.object].material.yarn, tube_hit));
+            ply_hits.push_back(trace_plies({frames[hit.object][hit.curve], scene.yarns[hit.object].material.yarn,
+                                            twists[hit.object][hit.curve], tube_hit}));
         }
         tube_shader = std::make_unique<SurfaceShader>(scene);
         ply_shader = std::make_unique<SurfaceShader>(explicit_scene);

@@ -83,7 +83,8 @@ struct Setup {
             const ExplicitHit tube = plies.intersect_tube(origin, dir, 0, 60);
             if (tube.hit) hits.push_back({origin, dir, tube.point, tube.segment, tube.t});
         }
-        for (const YarnTubeHit& h : hits) ply_hits.push_back(trace_plies(frames, description, h));
+        const YarnTwist twist = yarn_twist(frames, description);
+        for (const YarnTubeHit& h : hits) ply_hits.push_back(trace_plies({frames, description, twist, h}));
     }
     ~Setup() {
         rtcReleaseScene(tube_scene);
@@ -157,7 +158,10 @@ void plies_only(benchmark::State& state, PlyCrossSection method) {
     PlyTraceOptions o;
     o.cross_section = method;
     size_t i = 0;
-    for (auto _ : state) benchmark::DoNotOptimize(trace_plies(s.frames, s.description, s.hits[i++ % kRays], o));
+    for (auto _ : state) {
+        const YarnTwist twist = yarn_twist(s.frames, s.description);  // per query, as before PlyQuery
+        benchmark::DoNotOptimize(trace_plies({s.frames, s.description, twist, s.hits[i++ % kRays]}, o));
+    }
 }
 void BM_ImplicitPlies(benchmark::State& state) { plies_only(state, PlyCrossSection::elliptical); }
 void BM_LocalPlies(benchmark::State& state) { plies_only(state, PlyCrossSection::local); }

@@ -44,27 +44,26 @@ const char* const kFields[] = {"hit",      "ply",      "plies_crossed", "point_x
 constexpr int kFieldCount = sizeof(kFields) / sizeof(kFields[0]);
 
 // `method` indexes kMethods (all but `explicit`).
-PlyHit query(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit, int method) {
-    PlyTraceOptions options;
-    switch (method) {
-        case 0: return trace_plies(frames, d, hit, options);  // elliptical, the default
-        case 1: options.cross_section = PlyCrossSection::local; return trace_plies(frames, d, hit, options);
-        case 2: options.cross_section = PlyCrossSection::circular; return trace_plies(frames, d, hit, options);
-        default: break;  // straight
-    }
-    options.cross_section = PlyCrossSection::local;
+PlyHit query(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit, int method,
+             PlySearchStats& spent) {
+    const YarnTwist twist = yarn_twist(frames, d);
+    PlyTraceOptions options;  // elliptical, the default
+    if (method == 1 || method == 3) options.cross_section = PlyCrossSection::local;
+    if (method == 2) options.cross_section = PlyCrossSection::circular;
+    if (method != 3) return trace_plies({frames, d, twist, hit}, options, &spent);
+    // straight: the local method around the hit's cross-section with its curvature taken away
     CentrelineProjection at = project_to_centreline(frames, hit.point, hit.segment, hit.t);
     at.point.curvature = Vec3(0.0f);
-    return trace_plies_local(frames, d, yarn_twist(frames, d), hit, at, options);
+    return trace_plies({frames, d, twist, hit, &at}, options, &spent);
 }
 
 // One method's answer for the ray through film position (x, y), in pixels.
-void write_hit(std::FILE* out, const PlyHit& h, float radius, float x, float y) {
+void write_hit(std::FILE* out, const PlyHit& h, const PlySearchStats& spent, float radius, float x, float y) {
     const float fields[kFieldCount] = {
         float(h.hit),  float(h.ply),  float(h.plies_crossed), h.point.x,   h.point.y,   h.point.z,
         h.normal.x,    h.normal.y,    h.normal.z,             h.tangent.x, h.tangent.y, h.tangent.z,
         h.distance,    h.exit_distance, h.u_ply,              h.v_ply,     h.u_yarn,    h.v_yarn,
-        h.arrangement_azimuth, float(h.segment), h.t, float(h.iterations), float(h.converged), radius, x, y};
+        h.arrangement_azimuth, float(h.segment), h.t, float(spent.evaluations), float(spent.converged), radius, x, y};
     std::fwrite(fields, sizeof fields, 1, out);
 }
 
@@ -92,11 +91,16 @@ int dump_scene(const std::string& prefix, const char* name, int rays) {
         const CurveFrames& curve = frames[hit.object][hit.curve];
         const YarnDescription& d = scene.yarns[hit.object].material.yarn;
         const YarnTubeHit tube_hit{ray.origin, ray.direction, hit.position, hit.segment, hit.u};
-        for (int method = 0; method + 1 < kMethodCount; ++method)
-            write_hit(out, query(curve, d, tube_hit, method), curve.reference_radius(), x, y);
+        for (int method = 0; method + 1 < kMethodCount; ++method) {
+            PlySearchStats spent;
+            const PlyHit h = query(curve, d, tube_hit, method, spent);
+            write_hit(out, h, spent, curve.reference_radius(), x, y);
+        }
         auto& plies = explicit_plies[{hit.object, hit.curve}];
         if (!plies) plies = std::make_unique<ExplicitPlies>(curve, d);
-        write_hit(out, explicit_ply_answer(curve, *plies, d.plies(), tube_hit), curve.reference_radius(), x, y);
+        PlySearchStats spent;
+        const PlyHit reference = explicit_ply_answer(curve, *plies, d.plies(), tube_hit, &spent);
+        write_hit(out, reference, spent, curve.reference_radius(), x, y);
         ++written;
     }
     std::fclose(out);

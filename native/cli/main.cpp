@@ -15,9 +15,11 @@
 #include "io/image_io.h"
 #include "reference/explicit_export.h"
 #include "reference/explicit_models.h"
+#include "render/denoise.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
 #include "scene/input_error.h"
+#include "scene/scene_files.h"
 #include "scene/scene_json.h"
 #include "scene/swatch.h"
 
@@ -26,15 +28,37 @@ using namespace purl;
 
 namespace {
 
-RenderControl* g_control = nullptr;
-void on_interrupt(int) {
-    if (g_control) g_control->cancel = true;
+std::atomic<RenderControl*> g_control{nullptr};
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+// Ctrl-C and SIGTERM: while rendering, stop and write nothing; while writing, remove the
+// partial file and end as the signal would.
+void on_stop_signal(int sig) {
+    if (RenderControl* control = g_control.load()) {
+        g_stop_signal = sig;
+        control->cancel = true;
+        return;
+    }
+    discard_partial_output();
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
 }
 
 std::string lowercase_extension(const std::string& path) {
     std::string ext = fs::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(c));
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return ext;
+}
+
+// The two outputs of a render, checked before the scene is read: every failure here would
+// otherwise lose a finished render.
+void check_render_outputs(const std::string& output, const std::string& png) {
+    check_output_path(output, "-o");
+    if (png.empty()) return;
+    check_output_path(png, "--png", true);
+    std::error_code ec;
+    const fs::path a = fs::weakly_canonical(output, ec), b = fs::weakly_canonical(png, ec);
+    if (a == b) throw InputError(png, "--png", "is the -o output itself; give the PNG a name of its own");
 }
 
 // Draws a progress bar on stderr until `finished` is set.
@@ -78,10 +102,12 @@ void print_stats(const RenderStats& s) {
 
 int run_render(const std::string& scene_path, const std::string& output, const std::string& png,
                int spp, int threads, long long seed, const std::string& model, bool stats,
-               const std::string& integrator, const std::string& multiscale_mode, const std::string& ply_method) {
+               const std::string& integrator, const std::string& multiscale_mode, const std::string& ply_method,
+               bool denoise) {
+    check_render_outputs(output, png);
     const std::string ext = lowercase_extension(output);
-    if (ext != ".exr" && ext != ".png")
-        throw InputError(output, "", "output must end in .exr or .png");
+    std::signal(SIGINT, on_stop_signal);
+    std::signal(SIGTERM, on_stop_signal);
     SceneDesc scene = load_scene_file(scene_path);
     if (spp > 0) scene.render.spp = spp;
     if (threads > 0) scene.render.threads = threads;
@@ -90,33 +116,37 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (!multiscale_mode.empty()) scene.render.multiscale.mode = *parse_multiscale_mode(multiscale_mode);
     if (!integrator.empty()) scene.render.trace_only = integrator == "trace";
     if (!ply_method.empty()) scene.render.ply_method = parse_ply_method(ply_method, "--ply-method");
+    if (denoise) scene.render.denoise = true;
+    if (scene.render.denoise) Denoiser::load();  // a missing OIDN is reported before the scene is built
 
     Renderer renderer(std::move(scene));
     RenderControl control;
     g_control = &control;
-    std::signal(SIGINT, on_interrupt);
     std::atomic<bool> finished{false};
     std::thread progress(show_progress, std::cref(control), std::cref(finished));
     RenderResult result;
     try {
         result = renderer.render(control);
     } catch (...) {
+        g_control = nullptr;
         finished = true;
         progress.join();
         throw;
     }
+    g_control = nullptr;
     finished = true;
     progress.join();
-    g_control = nullptr;
     if (result.cancelled) {
         std::fprintf(stderr, "purl: render cancelled; nothing written\n");
-        return 130;
+        return 128 + (g_stop_signal ? int(g_stop_signal) : SIGINT);
     }
     if (ext == ".exr") write_multilayer_exr(output, result.image, "ViewLayer");
     else write_png(output, result.image);
     if (!png.empty()) write_png(png, result.image);
     for (const std::string& w : result.stats.warnings) std::fprintf(stderr, "purl: warning: %s\n", w.c_str());
     if (stats) print_stats(result.stats);
+    if (result.stats.denoise_seconds > 0)
+        std::fprintf(stderr, "purl: denoised with Open Image Denoise in %.2f s\n", result.stats.denoise_seconds);
     std::fprintf(stderr, "purl: wrote %s%s%s (%d x %d, %d spp) in %.2f s\n", output.c_str(),
                  png.empty() ? "" : " and ", png.c_str(), result.image.width, result.image.height,
                  renderer.scene().render.spp, result.stats.render_seconds);
@@ -199,6 +229,10 @@ int main(int argc, char** argv) {
                        "straight yarns) or circular (comparison only); overrides the scene")
         ->check(CLI::IsMember(ply_method_names()));
 
+    bool denoise = false;
+    render->add_flag("--denoise", denoise,
+                     "denoise with Intel Open Image Denoise (pip install pyoidn), guided by the Denoising Albedo and "
+                     "Normal passes; the EXR keeps the input as \"Noisy Image\"");
     std::string info_path;
     CLI::App* info = app.add_subcommand("info", "Describe a BCC curve file");
     info->add_option("file", info_path, "BCC file")->required();
@@ -218,6 +252,12 @@ int main(int argc, char** argv) {
     export_explicit->add_option("-o,--output", export_output, "output BCC file")->required();
     export_explicit->add_option("--radii", export_radii,
                                 "radius side file: float32 per BCC point, scene units (default: output.radii)");
+
+    std::string deps_scene;
+    bool deps_json = false;
+    CLI::App* deps = app.add_subcommand("deps", "List the files a scene reads besides itself (for render farms)");
+    deps->add_option("scene", deps_scene, "scene file (JSON)")->required();
+    deps->add_flag("--json", deps_json, "print JSON for tools instead of a table");
 
     FitCommand fit_command;
     CLI::App* fit = app.add_subcommand("fit", "Fit BYSDF parameters to target images; write a preset (docs/fitting.md)");
@@ -246,12 +286,16 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // --help and --version end well; any other parse error is bad input: exit 2, as
+        // every input error is (CLI11's own codes 105, 106, 109 ... are not documented).
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
     }
     try {
         if (*render) return run_render(scene_path, output, png, spp, threads, seed, model, stats, integrator,
-                                       multiscale_mode, ply_method);
+                                       multiscale_mode, ply_method, denoise);
         if (*info) return run_info(info_path);
+        if (*deps) return run_deps_command(deps_scene, deps_json, stdout);
         if (*fit) return run_fit_command(fit_command);
         if (*export_explicit) return run_export_explicit(export_scene, export_model, export_output, export_radii);
         if (*generate) {
@@ -262,6 +306,9 @@ int main(int argc, char** argv) {
             return 0;
         }
     } catch (const InputError& e) {
+        std::fprintf(stderr, "purl: error: %s\n", e.what());
+        return 2;
+    } catch (const DenoiserUnavailable& e) {
         std::fprintf(stderr, "purl: error: %s\n", e.what());
         return 2;
     } catch (const std::exception& e) {

@@ -5,12 +5,9 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <chrono>
-#include <condition_variable>
-#include <mutex>
 #include <optional>
-#include <thread>
 
+#include "bsdf/artist_params.h"
 #include "bsdf/bysdf_params.h"
 #include "bsdf/fiber_bcsdf_params.h"
 #include "bsdf/placeholder.h"
@@ -20,144 +17,21 @@
 #include "fit/fitter.h"
 #include "fit/preset_file.h"
 #include "io/image_io.h"
+#include "render_job.h"
+#include "scene_arrays.h"
 #include "reference/explicit_export.h"
 #include "reference/explicit_models.h"
+#include "render/denoise.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
-#include "scene/curve_arrays.h"
 #include "scene/input_error.h"
 #include "scene/scene_json.h"
 
 namespace py = pybind11;
 using namespace purl;
+using namespace purl::python;
 
 namespace {
-
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
-using IndexArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-
-py::dict required_dict(const py::dict& arrays, const std::string& name) {
-    if (!arrays.contains(name.c_str()))
-        throw InputError("<arrays>", name, "no array set of this name was given");
-    py::object entry = arrays[name.c_str()];
-    if (!py::isinstance<py::dict>(entry)) throw InputError("<arrays>", name, "must be a dict of arrays");
-    return entry.cast<py::dict>();
-}
-
-template <class Array>
-Array get_array(const py::dict& d, const char* key, const std::string& set, bool required = true) {
-    if (!d.contains(key)) {
-        if (required) throw InputError("<arrays>", set + "." + key, "is required");
-        return Array();
-    }
-    try {
-        return d[key].cast<Array>();
-    } catch (const py::cast_error&) {
-        throw InputError("<arrays>", set + "." + key, "cannot be read as a numeric array");
-    }
-}
-
-// A numpy copy of a vector (numpy owns its memory; the vector may go away).
-template <class T>
-py::array_t<T> copy_to_numpy(const std::vector<T>& v) {
-    py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
-    std::copy(v.begin(), v.end(), a.mutable_data());
-    return a;
-}
-
-// Yarn curves as the dict load_bcc and explicit_curves return: control points (n, 3), radii,
-// the curve and segment tables, closed flags and ids.
-py::dict curves_to_numpy(const YarnCurves& c) {
-    py::array_t<float> points({py::ssize_t(c.point_count()), py::ssize_t(3)});
-    py::array_t<float> radii(py::ssize_t(c.point_count()));
-    float* p = points.mutable_data();
-    float* r = radii.mutable_data();
-    for (size_t i = 0; i < c.point_count(); ++i) {
-        const Vec4& v = c.control_points[i];
-        p[3 * i] = v.x;
-        p[3 * i + 1] = v.y;
-        p[3 * i + 2] = v.z;
-        r[i] = v.w;
-    }
-    py::dict d;
-    d["points"] = points;
-    d["radii"] = radii;
-    d["offsets"] = copy_to_numpy(c.curve_offsets);
-    d["segments"] = copy_to_numpy(c.segment_first);
-    d["segment_offsets"] = copy_to_numpy(c.segment_offsets);
-    d["closed"] = copy_to_numpy(c.closed).attr("astype")("bool");
-    d["ids"] = copy_to_numpy(c.curve_ids);
-    return d;
-}
-
-YarnCurves yarns_from_python(const py::dict& arrays, const std::string& name) {
-    const py::dict d = required_dict(arrays, name);
-    const FloatArray points = get_array<FloatArray>(d, "points", name);
-    const FloatArray radii = get_array<FloatArray>(d, "radii", name);
-    const IndexArray offsets = get_array<IndexArray>(d, "offsets", name);
-    if (points.ndim() != 2 || points.shape(1) != 3)
-        throw InputError("<arrays>", name + ".points", "must have shape (N, 3)");
-    if (radii.ndim() != 1 || radii.shape(0) != points.shape(0))
-        throw InputError("<arrays>", name + ".radii", "must have shape (N,) matching points");
-    if (offsets.ndim() != 1 || offsets.shape(0) < 2)
-        throw InputError("<arrays>", name + ".offsets", "must have shape (C + 1,) with C >= 1");
-    CurveArrays a;
-    a.points = points.data();
-    a.radii = radii.data();
-    a.point_count = static_cast<size_t>(points.shape(0));
-    a.offsets = offsets.data();
-    a.curve_count = static_cast<size_t>(offsets.shape(0) - 1);
-    py::array_t<uint8_t, py::array::c_style | py::array::forcecast> closed;
-    py::array_t<int32_t, py::array::c_style | py::array::forcecast> ids;
-    if (d.contains("closed")) {
-        closed = d["closed"].cast<decltype(closed)>();
-        if (closed.ndim() != 1 || size_t(closed.shape(0)) != a.curve_count)
-            throw InputError("<arrays>", name + ".closed", "must have one value per curve");
-        a.closed = closed.data();
-    }
-    if (d.contains("ids")) {
-        ids = d["ids"].cast<decltype(ids)>();
-        if (ids.ndim() != 1 || size_t(ids.shape(0)) != a.curve_count)
-            throw InputError("<arrays>", name + ".ids", "must have one value per curve");
-        a.ids = ids.data();
-    }
-    // One linear RGB colour per curve (float32 (C, 3)); replaces the material's body colour.
-    FloatArray colors;
-    if (d.contains("curve_colors")) {
-        colors = get_array<FloatArray>(d, "curve_colors", name);
-        if (colors.ndim() != 2 || size_t(colors.shape(0)) != a.curve_count || colors.shape(1) != 3)
-            throw InputError("<arrays>", name + ".curve_colors",
-                             "must have shape (C, 3) with one RGB colour per curve (C = " +
-                                 std::to_string(a.curve_count) + ")");
-        a.colors = colors.data();
-    }
-    if (d.contains("basis")) a.basis = parse_curve_basis(d["basis"].cast<std::string>(), "<arrays>: " + name);
-    py::gil_scoped_release release;  // conversion of large curve sets needs no Python
-    return curves_from_arrays(a, "<arrays>: " + name);
-}
-
-MeshDesc mesh_from_python(const py::dict& arrays, const std::string& name) {
-    const py::dict d = required_dict(arrays, name);
-    const FloatArray vertices = get_array<FloatArray>(d, "vertices", name);
-    const IndexArray triangles = get_array<IndexArray>(d, "triangles", name);
-    if (vertices.ndim() != 2 || vertices.shape(1) != 3)
-        throw InputError("<arrays>", name + ".vertices", "must have shape (V, 3)");
-    if (triangles.ndim() != 2 || triangles.shape(1) != 3)
-        throw InputError("<arrays>", name + ".triangles", "must have shape (T, 3)");
-    MeshDesc m;
-    m.name = name;
-    m.vertices.resize(vertices.shape(0));
-    const float* v = vertices.data();
-    for (size_t i = 0; i < m.vertices.size(); ++i) m.vertices[i] = Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
-    m.indices.resize(size_t(triangles.shape(0)) * 3);
-    const int64_t* t = triangles.data();
-    for (size_t i = 0; i < m.indices.size(); ++i) {
-        if (t[i] < 0 || t[i] >= int64_t(m.vertices.size()))
-            throw InputError("<arrays>", name + ".triangles", "index " + std::to_string(t[i]) + " out of range");
-        m.indices[i] = static_cast<uint32_t>(t[i]);
-    }
-    return m;
-}
 
 std::string scene_text(const py::object& scene) {
     if (py::isinstance<py::str>(scene)) return scene.cast<std::string>();
@@ -188,134 +62,6 @@ SceneDesc build_scene(const py::object& scene, const py::object& arrays, const s
     return desc;
 }
 
-py::dict passes_to_numpy(const RenderImage& image) {
-    py::dict out;
-    for (const ImagePass& pass : image.passes) {
-        py::array_t<float> a({image.height, image.width, pass.channels()});
-        std::memcpy(a.mutable_data(), pass.pixels.data(), pass.pixels.size() * sizeof(float));
-        out[pass.name.c_str()] = a;
-    }
-    return out;
-}
-
-py::dict stats_to_dict(const RenderStats& s) {
-    py::dict d;
-    d["build_seconds"] = s.build_seconds;
-    d["render_seconds"] = s.render_seconds;
-    d["samples"] = s.samples;
-    d["samples_per_second"] = s.samples_per_second();
-    d["rays"] = s.rays;
-    d["mean_path_length"] = s.mean_path_length;
-    d["invalid_samples"] = s.invalid_samples;
-    d["acceleration_bytes"] = s.acceleration_bytes;
-    d["control_points"] = s.control_points;
-    d["curves"] = s.curves;
-    d["shading_bytes"] = s.shading_bytes;
-    d["peak_resident_bytes"] = s.peak_resident_bytes;
-    d["threads"] = s.threads;
-    d["multiscale_hits"] = py::dict(py::arg("near") = s.hits_near, py::arg("multi") = s.hits_multi,
-                                    py::arg("far") = s.hits_far);
-    d["mean_h_samples"] = s.mean_h_samples();
-    d["warnings"] = s.warnings;
-    return d;
-}
-
-// A render running on its own thread; Python polls it, waits for it or cancels it.
-class RenderJob {
-public:
-    RenderJob(const py::object& scene, const py::object& arrays, const std::string& base_dir,
-              const std::optional<std::string>& model, const std::optional<std::string>& mode)
-        : renderer_(std::make_unique<Renderer>(build_scene(scene, arrays, base_dir, model, mode))) {}
-    ~RenderJob() {
-        control_.cancel = true;
-        if (worker_.joinable()) {
-            py::gil_scoped_release release;
-            worker_.join();
-        }
-    }
-
-    void start(std::optional<int> spp, std::optional<long long> seed, int threads) {
-        // A finished job may render again (other spp or seed) on the scene it has built: the
-        // benchmarks (bench/) time many sample counts without rebuilding explicit geometry.
-        if (worker_.joinable()) {
-            if (!done()) throw std::runtime_error("this job is still rendering");
-            worker_.join();
-            done_ = false;
-            result_.reset();
-            error_.reset();
-            control_.cancel = false;
-        }
-        RenderSettings settings = renderer_->scene().render;
-        if (spp) {
-            if (*spp < 1) throw py::value_error("spp must be at least 1");
-            settings.spp = *spp;
-        }
-        if (seed) settings.seed = static_cast<uint64_t>(*seed);
-        if (threads > 0) settings.threads = threads;
-        worker_ = std::thread([this, settings] {
-            try {
-                RenderResult r = renderer_->render(settings, control_);
-                std::lock_guard<std::mutex> lock(mutex_);
-                result_ = std::move(r);
-            } catch (const std::exception& e) {
-                std::lock_guard<std::mutex> lock(mutex_);
-                error_ = e.what();
-            }
-            std::lock_guard<std::mutex> lock(mutex_);
-            done_ = true;
-            finished_.notify_all();
-        });
-    }
-    bool wait(std::optional<double> timeout) {
-        if (!worker_.joinable()) throw std::runtime_error("the job has not been started");
-        py::gil_scoped_release release;
-        std::unique_lock<std::mutex> lock(mutex_);
-        if (timeout) return finished_.wait_for(lock, std::chrono::duration<double>(*timeout), [&] { return done_; });
-        finished_.wait(lock, [&] { return done_; });
-        return true;
-    }
-    double progress() const { return control_.progress(); }
-    bool done() {
-        std::lock_guard<std::mutex> lock(mutex_);
-        return done_;
-    }
-    void cancel() { control_.cancel = true; }
-    bool cancelled() {
-        std::lock_guard<std::mutex> lock(mutex_);
-        return done_ && result_ && result_->cancelled;
-    }
-    std::optional<std::string> error() {
-        std::lock_guard<std::mutex> lock(mutex_);
-        return error_;
-    }
-    const RenderResult& finished_result() {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (!done_) throw std::runtime_error("the render has not finished; call wait() first");
-        if (error_) throw std::runtime_error(*error_);
-        return *result_;
-    }
-    py::dict passes() { return passes_to_numpy(finished_result().image); }
-    py::dict stats() { return stats_to_dict(finished_result().stats); }
-    const RenderStats& finished_stats() { return finished_result().stats; }
-    void write(const std::string& exr, std::optional<std::string> png, const std::string& layer) {
-        const RenderResult& r = finished_result();
-        if (r.cancelled) throw std::runtime_error("the render was cancelled; nothing written");
-        py::gil_scoped_release release;
-        write_multilayer_exr(exr, r.image, layer);
-        if (png) write_png(*png, r.image);
-    }
-
-private:
-    std::unique_ptr<Renderer> renderer_;
-    RenderControl control_;
-    std::thread worker_;
-    std::mutex mutex_;
-    std::condition_variable finished_;
-    bool done_ = false;
-    std::optional<RenderResult> result_;
-    std::optional<std::string> error_;
-};
-
 py::list describe_parameters(const std::vector<ParamInfo>& table) {
     py::list out;
     for (const ParamInfo& p : table) {
@@ -330,9 +76,54 @@ py::list describe_parameters(const std::vector<ParamInfo>& table) {
         d["doc"] = p.doc;
         d["is_color"] = p.is_color;
         d["is_integer"] = p.is_integer;
+        d["is_sign"] = p.is_sign;
+        d["label"] = p.label ? py::object(py::str(p.label)) : py::object(py::none());
         out.append(d);
     }
     return out;
+}
+
+// Fills the declared fields of `params` that `values` names (numbers or sequences of numbers);
+// other keys are left to the caller. Range checks are the scene reader's job.
+template <class Params>
+void fill_params(const py::dict& values, const std::vector<ParamInfo>& table, Params& params) {
+    for (const ParamInfo& info : table) {
+        if (!values.contains(info.name)) continue;
+        float* field = param_field(params, info);
+        const py::object v = values[info.name];
+        if (info.components == 1) {
+            *field = v.cast<float>();
+        } else {
+            const auto list = v.cast<std::vector<float>>();
+            if (int(list.size()) != info.components)
+                throw py::value_error(std::string(info.name) + " needs " + std::to_string(info.components) + " numbers");
+            std::copy(list.begin(), list.end(), field);
+        }
+    }
+}
+
+py::dict params_to_dict(const BysdfParams& p) {
+    py::dict out;
+    for (const ParamInfo& info : bysdf_param_table()) {
+        const float* v = param_field(p, info);
+        if (info.components == 1) out[info.name] = v[0];
+        else out[info.name] = py::make_tuple(v[0], v[1], v[2]);
+    }
+    return out;
+}
+
+// A bysdf material object (physics parameters and artist controls, as in a scene) -> the BYSDF
+// parameters the renderer uses, with the controls applied (bsdf/artist_params.h).
+py::dict resolve_material(const py::dict& material) {
+    if (material.contains("preset") || material.contains("preset_file"))
+        throw py::value_error("resolve_material reads a material's own keys, not presets: put the preset's "
+                              "\"material\" object under the overrides first");
+    BysdfParams physics = default_bysdf_params();
+    fill_params(material, bysdf_param_table(), physics);
+    ArtistControls artist;
+    artist.has_color = material.contains("color");
+    fill_params(material, artist_param_table(), artist);
+    return params_to_dict(apply_artist_controls(physics, artist));
 }
 
 const std::vector<ParamInfo>& parameter_table(const std::string& model) {
@@ -405,7 +196,11 @@ py::dict fit_from_python(const py::list& target_list, const py::object& arrays, 
             d["renders"] = p.renders;
             d["mse"] = p.error;
             d["seconds"] = p.seconds;
+            d["seconds_left"] = p.seconds_left;
+            d["seconds_per_iteration"] = p.seconds_per_iteration;
             d["event"] = p.event;
+            d["column"] = p.column;
+            d["columns"] = p.columns;
             return !progress(d).equal(py::bool_(false));
         };
     const BysdfParams start = starting_params(targets);
@@ -431,15 +226,43 @@ PYBIND11_MODULE(purlcore, m) {
     m.attr("__version__") = PURL_VERSION;
     // purlcore.Error, message "file: place: reason"; also raised when a render is cancelled.
     static py::exception<InputError>& error = py::register_exception<InputError>(m, "Error", PyExc_RuntimeError);
+    // Every other native failure too (RenderJob misuse, a failed write, Embree): purlcore.Error,
+    // which is a RuntimeError. Python's own exceptions (ValueError, TypeError ...) stay as they are.
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const py::builtin_exception&) {
+            throw;
+        } catch (const InputError&) {
+            throw;
+        } catch (const std::runtime_error& e) {
+            PyErr_SetString(error.ptr(), e.what());
+        }
+    });
 
     py::class_<RenderJob>(m, "RenderJob")
-        .def(py::init<const py::object&, const py::object&, const std::string&, const std::optional<std::string>&,
-                      const std::optional<std::string>&>(),
+        .def(py::init([](const py::object& scene, const py::object& arrays, const std::string& base_dir,
+                         const std::optional<std::string>& model, const std::optional<std::string>& mode) {
+                 return std::make_unique<RenderJob>(build_scene(scene, arrays, base_dir, model, mode));
+             }),
              py::arg("scene"), py::arg("arrays") = py::none(), py::arg("base_dir") = "", py::arg("model") = py::none(),
              py::arg("mode") = py::none(),
              "Parse and build a scene (JSON text or dict, plus named numpy arrays).")
         .def("start", &RenderJob::start, py::arg("spp") = py::none(), py::arg("seed") = py::none(),
-             py::arg("threads") = 0, "Start rendering on native threads; returns at once. A finished job may be started again.")
+             py::arg("threads") = 0, py::arg("denoise") = py::none(), py::arg("first_sample") = 0,
+             "Start rendering on native threads; returns at once. A finished job may be started again. denoise: "
+             "run Open Image Denoise after the last sample (default: the scene's render.denoise); raises "
+             "RuntimeError at once when OIDN is missing. first_sample: render samples first_sample .. "
+             "first_sample + spp - 1, so passes over consecutive ranges, averaged with their spp as weights, "
+             "equal one render of all of them.")
+        .def(
+            "set_view",
+            [](RenderJob& job, const py::object& scene) {
+                job.set_view(parse_view_text(scene_text(scene), "<scene>"));
+            },
+            py::arg("scene"),
+             "Take the camera and film of a scene (JSON text or dict; the rest is not read) for the next start(), "
+             "keeping the built geometry: a viewport's view changes. Not while rendering.")
         .def("wait", &RenderJob::wait, py::arg("timeout") = py::none(),
              "Block until the render ends (or timeout seconds pass); True when it has ended.")
         .def("cancel", &RenderJob::cancel, "Ask the render to stop; it ends within a pixel's work.")
@@ -450,17 +273,26 @@ PYBIND11_MODULE(purlcore, m) {
         .def("passes", &RenderJob::passes, "Dict of pass name -> float32 array (H, W, C), rows top to bottom.")
         .def("stats", &RenderJob::stats, "Timing, ray and memory figures of the finished render.")
         .def("write", &RenderJob::write, py::arg("exr_path"), py::arg("png_path") = py::none(),
-             py::arg("layer") = "ViewLayer", "Write a multilayer EXR (and optionally an sRGB PNG) atomically.");
+             py::arg("layer") = "ViewLayer", py::arg("passes") = py::none(),
+             "Write a multilayer EXR (and optionally an sRGB PNG) atomically. passes: write these pixels (name -> "
+             "float32 (H, W, C), e.g. an average of sample passes) instead of the job's own, only the passes given.");
 
     m.def(
         "render",
         [](const py::object& scene, const py::object& arrays, const std::string& base_dir, std::optional<int> spp,
            std::optional<long long> seed, int threads, const py::object& progress,
            const std::optional<std::string>& model, const std::optional<std::string>& mode) {
-            RenderJob job(scene, arrays, base_dir, model, mode);
-            job.start(spp, seed, threads);
-            while (!job.wait(0.1)) {
-                if (!progress.is_none() && progress(job.progress()).equal(py::bool_(false))) job.cancel();
+            RenderJob job(build_scene(scene, arrays, base_dir, model, mode));
+            job.start(spp, seed, threads, std::nullopt, 0);
+            try {
+                while (!job.wait(0.1)) {
+                    if (!progress.is_none() && progress(job.progress()).equal(py::bool_(false))) job.cancel();
+                }
+            } catch (py::error_already_set&) {  // Ctrl-C (or the progress callback raised): stop the render
+                job.cancel();
+                py::gil_scoped_release release;
+                job.join();
+                throw;
             }
             if (auto message = job.error()) throw std::runtime_error(*message);
             if (job.cancelled()) {
@@ -480,14 +312,16 @@ PYBIND11_MODULE(purlcore, m) {
         "(near, multi, far, auto; default the scene's render.multiscale.mode).");
     m.def(
         "project_points",
-        [](const py::object& scene, const FloatArray& points) {
+        [](const py::object& scene, const py::array_t<double, py::array::c_style | py::array::forcecast>& points) {
             if (points.ndim() != 2 || points.shape(1) != 3) throw py::value_error("points must have shape (N, 3)");
             const SceneDesc desc = parse_view_text(scene_text(scene), "<scene>");
             const Camera camera(desc.camera, desc.film);
             py::array_t<float> out({points.shape(0), py::ssize_t(2)});
             for (py::ssize_t i = 0; i < points.shape(0); ++i) {
                 float x = NAN, y = NAN;
-                if (!camera.project({points.at(i, 0), points.at(i, 1), points.at(i, 2)}, x, y)) x = y = NAN;
+                const Vec3 local(float(points.at(i, 0) - desc.origin[0]), float(points.at(i, 1) - desc.origin[1]),
+                                 float(points.at(i, 2) - desc.origin[2]));  // the camera is relative to it
+                if (!camera.project(local, x, y)) x = y = NAN;
                 out.mutable_at(i, 0) = x;
                 out.mutable_at(i, 1) = y;
             }
@@ -502,7 +336,74 @@ PYBIND11_MODULE(purlcore, m) {
           py::arg("progress") = py::none(), py::arg("name") = "fitted", py::arg("block") = 1,
           "Fit BYSDF parameters to target images (docs/fitting.md); returns the preset dict, whose "
           "provenance holds the errors. progress(dict) returning False stops early, keeping the best so far.");
+    m.def(
+        "denoiser",
+        [] {
+            py::dict d;
+            try {
+                const auto denoiser = Denoiser::load();
+                d["available"] = true;
+                d["library"] = denoiser->library_path();
+                d["message"] = "Open Image Denoise: " + denoiser->library_path();
+            } catch (const DenoiserUnavailable& e) {
+                d["available"] = false;
+                d["library"] = py::none();
+                d["message"] = e.what();
+            }
+            return d;
+        },
+        "Whether Open Image Denoise loads: {available, library (path or None), message (where it was looked for)}.");
+    m.def(
+        "denoise",
+        [](const py::dict& passes, int threads, bool prefilter_guides) {
+            RenderImage image;
+            for (const auto& item : passes) {
+                const FloatArray a = item.second.cast<FloatArray>();
+                if (a.ndim() != 3) throw py::value_error("every pass must have shape (H, W, C)");
+                if (image.passes.empty()) {
+                    image.height = int(a.shape(0));
+                    image.width = int(a.shape(1));
+                } else if (a.shape(0) != image.height || a.shape(1) != image.width) {
+                    throw py::value_error("passes differ in size");
+                }
+                ImagePass p{item.first.cast<std::string>(), std::vector<std::string>(size_t(a.shape(2))),
+                            std::vector<float>(a.data(), a.data() + a.size())};
+                image.passes.push_back(std::move(p));
+            }
+            {
+                py::gil_scoped_release release;
+                Denoiser::load()->denoise(image, {threads, prefilter_guides});
+            }
+            return passes_to_numpy(image);
+        },
+        py::arg("passes"), py::arg("threads") = 0, py::arg("prefilter_guides") = true,
+        "Denoise a dict of passes (as RenderJob.passes() returns: Combined, and Denoising Albedo / Normal as "
+        "guides) with Open Image Denoise; returns the dict with Combined denoised and the input as 'Noisy Image'.");
+    m.def(
+        "far_field_progress",
+        [] {
+            const FarFieldBuildProgress p = far_field_build_progress();
+            return py::make_tuple(p.done, p.total);
+        },
+        "(done, total) view angles of the far-field tables being tabulated in this process, (0, 0) when none: "
+        "a render waiting for its table shows this instead of a stalled progress.");
     m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder", "fiber"}; });
+    m.def(
+        "material_model_labels",
+        [] {
+            py::dict d;  // what an artist reads in the model menu
+            d["bysdf"] = "Yarn (plies and fibers)";
+            d["placeholder"] = "Simple (diffuse + gloss)";
+            d["fiber"] = "Single fibers";
+            return d;
+        },
+        "Display names of the material models.");
+    m.def("artist_parameters", [] { return describe_parameters(artist_param_table()); },
+          "The artist controls of the bysdf model (yarn colour, sheen, softness, translucency); each doc states "
+          "the rule that maps it onto the BYSDF parameters (docs/artist-controls.md).");
+    m.def("resolve_material", &resolve_material, py::arg("material"),
+          "The BYSDF parameters a bysdf material object renders with: its physics parameters (defaults where "
+          "absent) with its artist controls (color, sheen, softness, translucency) applied.");
     m.def("fiber_presets", &fiber_bcsdf_preset_names,
           "Names accepted by material.fiber.preset (Khungurn et al. 2015 fits).");
     m.def(
@@ -529,6 +430,26 @@ PYBIND11_MODULE(purlcore, m) {
           "The yarn geometry parameters (plies, twist, fibers, migration) of the bysdf model.");
     m.def("multiscale_parameters", [] { return describe_parameters(multiscale_param_table()); },
           "The multi-scale BYSDF parameters (render.multiscale in a scene; docs/multiscale.md).");
+    m.def(
+        "read_image",
+        [](const std::string& path) {
+            const ImageRGB image = read_image_rgb(path);
+            py::array_t<float> out({image.height, image.width, 3});
+            std::copy(image.rgb.begin(), image.rgb.end(), out.mutable_data());
+            return out;
+        },
+        py::arg("path"), "Any image OpenImageIO reads, as linear RGB float32 (H, W, 3), rows top to bottom.");
+    m.def(
+        "write_image",
+        [](const std::string& path, const py::array_t<float, py::array::c_style | py::array::forcecast>& rgb) {
+            if (rgb.ndim() != 3 || rgb.shape(2) != 3) throw py::value_error("write_image wants an (H, W, 3) array");
+            ImageRGB image;
+            image.height = int(rgb.shape(0));
+            image.width = int(rgb.shape(1));
+            image.rgb.assign(rgb.data(), rgb.data() + rgb.size());
+            write_rgb_exr(path, image);
+        },
+        py::arg("path"), py::arg("rgb"), "Linear RGB (H, W, 3) as a half-float, zip-compressed EXR.");
     m.def("multiscale_modes", [] { return std::vector<std::string>{"near", "multi", "far", "auto"}; });
     m.def("ply_methods", &ply_method_names,
           "Values of render.ply_method: how BYSDF yarns find the ply under a hit.");
@@ -575,6 +496,20 @@ PYBIND11_MODULE(purlcore, m) {
         "radii, G_f]) and the ply-shadowing map G_p (resolution) of a yarn description, at the bin centres.");
     m.def("material_parameters", [](const std::string& model) { return describe_parameters(parameter_table(model)); },
           py::arg("model") = "placeholder", "Every parameter of a material model with unit, range, default and doc.");
+    m.def(
+        "convert_curves",
+        [](const py::dict& curves) {
+            py::dict named;
+            named["curves"] = curves;
+            return curves_to_numpy(yarns_from_python(named, "curves"));
+        },
+        py::arg("curves"),
+        "One array set as RenderJob takes it (points, radii, offsets, closed, basis, ...) converted as a render "
+        "converts it: B-spline control points, segment tables and closed flags, as load_bcc returns them.");
+    m.def("read_bcc", &read_bcc_for_import, py::arg("path"),
+          "Read a BCC file as stored: type (C0, PL, BS, BZ), points (N, 3) turned Z-up, offsets (C + 1), closed (C), "
+          "info, the file's up axis, and radius_estimate: half the median distance to the nearest other yarn (file "
+          "units, 0 when the file has a single short yarn).");
     m.def(
         "load_bcc",
         [](const std::string& path, float radius) {

@@ -29,6 +29,8 @@ def sample_curve(basis, points, closed=False, samples=64):
         if closed:
             points = np.concatenate([points[-1:], points, points[:2]])
         return _segments(points, CATMULL_ROM, 1, samples)
+    if closed and basis in ("bezier", "polyline"):  # the last segment ends at the first point
+        points = np.concatenate([points, points[:1]])
     if basis == "bezier":
         return _segments(points, BEZIER, 3, samples)
     if basis == "polyline":
@@ -41,6 +43,16 @@ def max_distance_to(reference_points, dense_curve):
     """Largest distance from any reference point to the nearest point of a densely sampled curve."""
     d = np.linalg.norm(reference_points[:, None, :] - dense_curve[None, :, :], axis=2)
     return float(d.min(axis=1).max())
+
+
+def placed_arrays(exported, entry):
+    """The array set of a scene entry (yarn set or mesh) with its points or vertices in world space,
+    in float64: the exporter gives them relative to the translation of the entry's matrix_world."""
+    arrays = dict(exported.arrays[entry["arrays"]])
+    translation = np.array(entry["matrix_world"], dtype=np.float64).reshape(4, 4)[:3, 3]
+    key = "points" if "points" in arrays else "vertices"
+    arrays[key] = arrays[key].astype(np.float64) + translation
+    return arrays
 
 
 def curves_of(arrays):

@@ -139,6 +139,9 @@ def native_scene(json_scene, curves_points, spp):
     points = np.concatenate(points).astype(np.float32)
     del yarn["bcc"]
     yarn["arrays"] = "yarn"
+    # The shader implements the paper's ply crossing (tau^N_i and G_p, docs/osl.md), not the
+    # native default's traced one: compare like with like.
+    yarn.setdefault("material", {})["ply_crossing"] = 0
     scene["render"]["spp"] = spp
     arrays = {"yarn": {"points": points, "radii": np.full(len(points), yarn.pop("radius"), np.float32),
                        "offsets": np.asarray(offsets, np.int32), "closed": np.zeros(len(offsets) - 1, bool),

@@ -9,6 +9,7 @@ import pytest
 from mathutils import Vector
 
 from builders import add_camera, add_light, add_plane, compat, depsgraph
+from curve_math import placed_arrays
 
 
 def export(purl):
@@ -231,7 +232,7 @@ def test_mesh_triangles_colour_and_holdout(purl, scene):
     exported = export(purl)
     meshes = {m["name"]: m for m in exported.scene["meshes"]}
     red = meshes["Plane"]
-    arrays = exported.arrays[red["arrays"]]
+    arrays = placed_arrays(exported, red)
     assert red["color"] == pytest.approx([0.9, 0.1, 0.1]) and not red["holdout"]
     assert arrays["triangles"].shape == (2, 3)
     np.testing.assert_allclose(arrays["vertices"][:, 2], 1.0)

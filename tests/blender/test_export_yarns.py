@@ -9,7 +9,7 @@ import pytest
 from mathutils import Matrix, Vector
 
 from builders import add_curve, add_plane, depsgraph
-from curve_math import curves_of, max_distance_to, sample_curve
+from curve_math import curves_of, max_distance_to, placed_arrays, sample_curve
 
 
 def export(purl):
@@ -18,7 +18,7 @@ def export(purl):
 
 def yarn_arrays(exported, name_prefix):
     sets = [y for y in exported.scene["yarns"] if y["name"].startswith(name_prefix)]
-    return [exported.arrays[y["arrays"]] for y in sets]
+    return [placed_arrays(exported, y) for y in sets]
 
 
 def test_repeat_end_points_duplicates_each_curves_first_and_last_point(purl):
@@ -178,6 +178,17 @@ def test_poly_curve_points_and_radii_equal_the_source(purl, scene):
     np.testing.assert_allclose(arrays["points"], expected, atol=1e-6)
     np.testing.assert_allclose(arrays["radii"], np.array([1.0, 0.5, 2.0]) * 0.1 * 1.5, rtol=1e-6)
     assert arrays["offsets"].tolist() == [0, 3]
+
+
+def test_curve_far_from_the_origin_keeps_its_precision(purl, scene):
+    """At 1e4 m float32 is 1 mm apart; the points go relative to the object and its translation
+    into matrix_world (read in double), so 0.1 mm steps survive."""
+    knots = [(0.0, 0.0, 0.0), (1e-4, 0.0, 0.0), (1e-4, 1e-4, 1e-4)]
+    ob = add_curve(scene, "Far", [("POLY", knots, {})], bevel_depth=1e-5)
+    ob.location = (1e4, -1e4, 1e4)
+    (arrays,) = yarn_arrays(export(purl), "Far")
+    expected = np.array(knots) + np.array([1e4, -1e4, 1e4])
+    np.testing.assert_allclose(arrays["points"], expected, rtol=0, atol=1e-8)
 
 
 def test_splines_of_different_types_become_separate_sets(purl, scene):

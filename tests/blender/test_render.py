@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from builders import add_curve, add_light, compat, render_saved_file, save_render_result
+from curve_math import placed_arrays
 from exr import channel_names
 
 LAYER = "ViewLayer"
@@ -143,7 +144,7 @@ def test_animation_exports_every_frame(purl, core, scene, tmp_path):
         engine.keep_last_arrays = False
     assert sorted(os.listdir(tmp_path)) == ["frame_0001.png", "frame_0002.png"]
     moved = next(y for y in engine.last_export.scene["yarns"] if y["name"] == "Yarn+0.0")
-    points = engine.last_export.arrays[moved["arrays"]]["points"]
+    points = placed_arrays(engine.last_export, moved)["points"]
     assert points[:, 2].mean() == pytest.approx(1.0 + 0.1 * 2 / 3, abs=0.1)  # frame 2's position
 
 

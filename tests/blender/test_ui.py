@@ -54,6 +54,8 @@ def test_material_panel_shows_every_native_parameter(ui, core, scene):
     material = bpy.data.materials.new("Wool")
     context = SimpleNamespace(engine="PURL", material=material, scene=scene)
     shown = draw(ui.PURL_PT_material, context)
+    if ui.PURL_PT_material_advanced.poll(context):  # the physics behind the artist controls
+        shown += draw(ui.PURL_PT_material_advanced, context)
     names = {p["name"] for p in core.material_parameters(material.purl.model)}
     plies = set()
     if ui.PURL_PT_material_plies.poll(context):  # models that declare ply colours

@@ -40,7 +40,8 @@ def scene(width=24, height=16, spp=4, **extra):
 
 def test_render_returns_all_passes_with_yarn_pixels():
     passes = purlcore.render(scene(), {"knit": yarn_arrays()})
-    assert set(passes) == {"Combined", "Depth", "Normal", "YarnID", "PlyIndex", "PlyUV"}
+    assert set(passes) == {"Combined", "Depth", "Normal", "YarnID", "PlyIndex", "PlyUV", "Denoising Albedo",
+                           "Denoising Normal"}
     assert passes["Combined"].shape == (16, 24, 4)
     assert passes["Depth"].shape == (16, 24, 1)
     assert passes["PlyUV"].shape == (16, 24, 2)
@@ -90,10 +91,11 @@ def test_job_progress_cancel_and_nothing_written(tmp_path):
     job.start()
     time.sleep(0.2)
     assert 0.0 <= job.progress < 1.0
-    t0 = time.monotonic()
+    before = job.progress
     job.cancel()
-    assert job.wait(timeout=5.0)
-    assert time.monotonic() - t0 < 2.0
+    assert job.wait(timeout=60.0)
+    # Counted, not timed: each thread finishes at most the pixel it was in (200 pixels = 0.005).
+    assert job.progress - before <= 0.005
     assert job.cancelled and job.done
     out = tmp_path / "never.exr"
     with pytest.raises(RuntimeError, match="cancelled"):

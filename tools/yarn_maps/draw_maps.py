@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the implicit-geometry validation maps (docs/images/*.png).
 
-Builds tools/yarn_maps/yarn_maps.cpp together with native/src/yarn/*.cpp (plain g++, no
+Builds tools/yarn_maps/yarn_maps.cpp together with native/src/yarn/**/*.cpp (plain g++, no
 CMake needed), runs it, and plots with matplotlib:
 
   implicit-plies-tangents.png   Fig. 3-style tangent maps: explicit, elliptical, circular, errors
@@ -27,7 +27,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 def build(work: pathlib.Path) -> pathlib.Path:
     exe = work / "yarn_maps"
-    sources = sorted(str(p) for p in (ROOT / "native/src/yarn").glob("*.cpp"))
+    sources = sorted(str(p) for p in (ROOT / "native/src/yarn").rglob("*.cpp"))  # plies/ included
     cmd = ["g++", "-O2", "-std=c++17", "-I", str(ROOT / "native/src"), *sources,
            str(ROOT / "tools/yarn_maps/yarn_maps.cpp"), "-o", str(exe)]
     subprocess.run(cmd, check=True)
@@ -96,7 +96,7 @@ def draw_tangents(work: pathlib.Path, out: pathlib.Path):
 def draw_accuracy(table: pathlib.Path, out: pathlib.Path):
     rows = list(csv.DictReader(open(table)))
     fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    styles = {"elliptical": ("C0", "-"), "yarn_plane": ("C2", "--"), "circular": ("C3", ":")}
+    styles = {"elliptical": ("C0", "-"), "circular": ("C3", ":")}
     for method, (colour, dash) in styles.items():
         for bend, marker in (("0", "o"), ("2", "s")):
             sel = [r for r in rows if r["method"] == method and r["bend"] == bend]
@@ -168,7 +168,7 @@ def summarise(table: pathlib.Path):
     rows = list(csv.DictReader(open(table)))
     print("| method | bend | view | agreement (min over plies) | tangent error mean (deg) | evals/ply |")
     print("|---|---|---|---|---|---|")
-    for method in ("elliptical", "yarn_plane", "circular"):
+    for method in ("elliptical", "circular"):
         for bend in ("0", "8", "4", "2"):
             for view in ("0", "30", "45", "60", "70", "80", "85"):
                 sel = [r for r in rows if r["method"] == method and r["bend"] == bend and r["view"] == view]

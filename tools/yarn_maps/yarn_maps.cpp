@@ -78,9 +78,7 @@ void table(const std::string& path) {
                 c.rays = bend > 0 ? 200 : 400;
                 c.count_crossings_every = 0;
                 c.seed = 77 + plies * 1000 + static_cast<uint64_t>(view) + 31 * static_cast<uint64_t>(bend);
-                PlyTraceOptions yarn_plane;
-                yarn_plane.cross_section = PlyCrossSection::elliptical_yarn_plane;
-                const ValidationResult r = validate_plies(c), ry = validate_plies(c, yarn_plane);
+                const ValidationResult r = validate_plies(c);
                 auto row = [&](const char* name, const MethodStats& m) {
                     double evals = 0;
                     int evals_max = 0;
@@ -93,7 +91,6 @@ void table(const std::string& path) {
                         << m.unconverged << ',' << m.non_finite << '\n';
                 };
                 row("elliptical", r.elliptical);
-                row("yarn_plane", ry.elliptical);
                 row("circular", r.circular);
                 std::printf("plies %d bend %g view %g\n", plies, bend, view);
                 std::fflush(stdout);

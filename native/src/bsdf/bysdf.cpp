@@ -1,5 +1,7 @@
 #include "bsdf/bysdf.h"
 
+#include <algorithm>
+
 #include "bsdf/fresnel.h"
 #include "bsdf/lommel_seeliger.h"
 #include "math/sampling.h"
@@ -44,8 +46,11 @@ Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
     k_spec_t_ = clamp01(p.specular_transmission_albedo) * (1.0f - body);
 
     // Shadowing dims only the body lobes, as in the paper; floors keep plies from going black.
-    const float shadow = std::max(clamp01(point.ply_shadow), clamp01(p.ply_shadow_floor)) *
-                         std::max(clamp01(point.fiber_shadow), clamp01(p.fiber_shadow_floor));
+    // Traced ply crossing: the plies that shadow x are crossed by the ray itself, so no G_p.
+    traced_ = p.ply_crossing >= 0.5f;
+    const float fiber_shadow = std::max(clamp01(point.fiber_shadow), clamp01(p.fiber_shadow_floor));
+    const float shadow =
+        traced_ ? fiber_shadow : std::max(clamp01(point.ply_shadow), clamp01(p.ply_shadow_floor)) * fiber_shadow;
     int colors = static_cast<int>(p.ply_color_count >= 1 ? std::min(p.ply_color_count, float(kMaxPlyColors)) : 1);
     const int ply = point.ply_index >= 0 ? point.ply_index % colors : 0;
     const Vec3 tint = clamp01(p.ply_colors[ply]) * clamp01(point.yarn_color);
@@ -60,11 +65,38 @@ Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
     r_fresnel_ = clamp01(p.body_reflection_fresnel);
     ls_weight_ = clamp01(p.lommel_seeliger_weight);
 
-    const float plies = static_cast<float>(std::max(1, point.plies_crossed));
-    extinction_spec_ = std::max(0.0f, p.sigma_t_specular) * plies;
-    extinction_body_ = std::max(0.0f, p.sigma_t_body) * plies;
-    if (!(extinction_spec_ < 1e30f)) extinction_spec_ = 1e30f;  // inf or NaN: opaque
-    if (!(extinction_body_ < 1e30f)) extinction_body_ = 1e30f;
+    const float plies = traced_ ? 1.0f : static_cast<float>(std::max(1, point.plies_crossed));
+    sigma_spec_ = std::max(0.0f, p.sigma_t_specular);
+    sigma_body_ = std::max(0.0f, p.sigma_t_body);
+    if (!(sigma_spec_ < 1e30f)) sigma_spec_ = 1e30f;  // inf or NaN: opaque
+    if (!(sigma_body_ < 1e30f)) sigma_body_ = 1e30f;
+    extinction_spec_ = std::min(sigma_spec_ * plies, 1e30f);
+    extinction_body_ = std::min(sigma_body_ * plies, 1e30f);
+    if (traced_) {
+        // What one more ply passes on: its four lobes as a whole, Fresnel averaged over the
+        // hemisphere (Kulla and Conty's fit, within 1e-2 for eta 1-3), the ply's mean G_f.
+        const float fresnel_avg = (eta_ - 1.0f) / (4.08567f + 1.00071f * eta_);
+        const float ply_shadow = std::max(clamp01(point.mean_fiber_shadow), clamp01(p.fiber_shadow_floor));
+        const Vec3 body_x = clamp01(p.body_reflection_albedo * tint) * (body * ply_shadow);
+        const Vec3 body_y = clamp01(p.body_transmission_albedo * tint) * (body * ply_shadow);
+        pass_on_.specular_transmission = k_spec_t_ * (1.0f - fresnel_avg);
+        pass_on_.body_transmission = body_y * (1.0f - r0_);
+        pass_on_.reflection = k_spec_r_ * fresnel_avg + body_x * r0_;
+        pass_on_.sigma_specular = sigma_spec_;
+        pass_on_.sigma_body = sigma_body_;
+    }
+}
+
+Vec3 PlyPassOn::product(const PlyCrossings& plies) const {
+    Vec3 t(1.0f);
+    const int n = std::clamp(plies.others, 0, kMaxCrossedPlies);
+    for (int k = 0; k < n; ++k) {
+        const float L = std::max(0.0f, plies.other[k]);
+        const float spec = sigma_specular * L < 100.0f ? std::exp(-sigma_specular * L) : 0.0f;
+        const float body = sigma_body * L < 100.0f ? std::exp(-sigma_body * L) : 0.0f;
+        t = t * (specular_transmission * spec + body_transmission * body + reflection);
+    }
+    return t;
 }
 
 float Bysdf::body_reflection_share(float cos_o) const {
@@ -93,9 +125,28 @@ void Bysdf::lobe_probabilities(Vec3 wo, float prob[4]) const {
     for (int i = 0; i < 4; ++i) prob[i] *= scale;
 }
 
+void Bysdf::lobe_albedos(Vec3 wo, Vec3 albedo[4]) const {
+    const float cos_o = std::fabs(wo.z);
+    const float fresnel = fresnel_dielectric(cos_o, eta_);
+    const float r = body_reflection_share(cos_o);
+    albedo[kSpecularReflection] = k_spec_r_ * fresnel;
+    albedo[kSpecularTransmission] = k_spec_t_ * (1.0f - fresnel);
+    albedo[kBodyReflection] = k_body_r_ * r;
+    albedo[kBodyTransmission] = k_body_t_ * (1.0f - r);
+}
+
+float Bysdf::lobe_roughness(int lobe) const {
+    if (lobe == kSpecularReflection) return std::sqrt(reflection_ggx_.alpha_x * reflection_ggx_.alpha_y);
+    if (lobe == kSpecularTransmission) return transmission_ggx_.alpha_x;
+    return 1.0f;
+}
+
 template <bool kWithPdf>
-BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord) const {
+BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord, const PlyCrossings* plies) const {
     BsdfEvalPdf out;
+    // Traced: the hit ply's own path attenuates the transmission lobes, the other plies all.
+    const bool crossing = traced_ && plies;
+    if (crossing) chord = plies->own;
     if (!(std::fabs(wo.z) > kMinCos && std::fabs(wi.z) > kMinCos)) return out;  // also NaN
     if (wo.z < 0) {  // two-sided: mirror so the viewer is on +z
         wo.z = -wo.z;
@@ -124,6 +175,7 @@ BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord) const {
         if (kWithPdf && prob[kSpecularReflection] > 0 && cos_oh > 0)
             out.pdf += prob[kSpecularReflection] * reflection_ggx_.visible_normal_pdf(wo, h) / (4 * cos_oh);
         out.pdf += prob[kBodyReflection] * cos_i * kInvPi;
+        if (crossing && plies->others > 0) out.f = out.f * other_plies_transmission(*plies);
         return out;
     }
 
@@ -146,11 +198,12 @@ BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord) const {
     const float r = body_reflection_share(cos_o);
     out.f += k_body_t_ * ((1.0f - r) * kInvPi * transmittance(1, chord));
     out.pdf += prob[kBodyTransmission] * cos_i * kInvPi;
+    if (crossing && plies->others > 0) out.f = out.f * other_plies_transmission(*plies);
     return out;
 }
 
-template BsdfEvalPdf Bysdf::evaluate<false>(Vec3, Vec3, float) const;
-template BsdfEvalPdf Bysdf::evaluate<true>(Vec3, Vec3, float) const;
+template BsdfEvalPdf Bysdf::evaluate<false>(Vec3, Vec3, float, const PlyCrossings*) const;
+template BsdfEvalPdf Bysdf::evaluate<true>(Vec3, Vec3, float, const PlyCrossings*) const;
 
 std::optional<BsdfSample> Bysdf::sample(Vec3 wo, float u_lobe, Vec2 u) const {
     if (!(std::fabs(wo.z) > kMinCos)) return std::nullopt;
@@ -201,7 +254,7 @@ std::optional<BsdfSample> Bysdf::sample(Vec3 wo, float u_lobe, Vec2 u) const {
     if (wants_reflection ? !(s.wi.z > kMinCos) : !(s.wi.z < -kMinCos)) return std::nullopt;
 
     // Value and density of the whole mixture, so that weight = f cos / pdf is exact for MIS.
-    const BsdfEvalPdf ep = evaluate<true>(wo, s.wi, 0.0f);
+    const BsdfEvalPdf ep = evaluate<true>(wo, s.wi, 0.0f, nullptr);
     if (!(ep.pdf > 0)) return std::nullopt;
     s.f = ep.f;
     s.pdf = ep.pdf;

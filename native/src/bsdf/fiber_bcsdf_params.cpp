@@ -2,6 +2,7 @@
 
 #include <cstddef>
 
+#include "math/number_text.h"
 #include "scene/input_error.h"
 
 namespace purl {
@@ -83,8 +84,8 @@ void check_fiber_bcsdf_params(const FiberBcsdfParams& p, const std::string& file
         for (int c = 0; c < info.components; ++c)
             if (!(v[c] >= info.min_value && v[c] <= info.max_value))  // also catches NaN
                 throw InputError(file, place + "." + info.name,
-                                 "value " + std::to_string(v[c]) + " outside [" + std::to_string(info.min_value) +
-                                     ", " + std::to_string(info.max_value) + "]");
+                                 "value " + number_text(v[c]) + " outside [" + number_text(info.min_value) +
+                                     ", " + number_text(info.max_value) + "]");
     }
 }
 

@@ -18,7 +18,15 @@ struct ParamInfo {
     size_t offset;      // byte offset of the float (or float[3]) inside the parameter struct
     bool is_color;      // shown as a colour picker
     bool is_integer = false;  // whole numbers only (counts, seeds): shown as an integer field
+    bool is_sign = false;     // -1 or +1 only (twist directions): shown as a choice of two
+    const char* label = nullptr;  // short name for the UI, unit not included (nullptr: from `name`)
 };
+
+// The same declaration with a UI label.
+inline ParamInfo labelled(ParamInfo info, const char* label) {
+    info.label = label;
+    return info;
+}
 
 // Reads a float field described by `info` from a parameter struct.
 template <class Params>

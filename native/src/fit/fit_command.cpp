@@ -41,8 +41,16 @@ int run_fit_command(const FitCommand& c) {
     std::fprintf(stderr, "purl fit: %zu unknowns, %zu target(s), %d x %d px\n", options.unknowns.size(),
                  targets.size(), targets[0].width, targets[0].height);
     options.progress = [](const FitProgress& p) {
-        std::fprintf(stderr, "  iteration %2d  %-8s  mse %.6g  lambda %.2g  renders %d  %.1f s\n", p.iteration,
-                     p.event.c_str(), p.error, p.lambda, p.renders, p.seconds);
+        if (p.event == "jacobian") {  // one line per column, rewritten in place
+            std::fprintf(stderr, "\r  iteration %2d  derivative %d/%d  %.0f s, at most ~%.0f s left   ", p.iteration,
+                         p.column, p.columns, p.seconds, p.seconds_left);
+            return true;
+        }
+        std::fprintf(stderr,
+                     "\r  iteration %2d  %-8s  mse %.6g  lambda %.2g  renders %d  %.1f s  (~%.0f s an iteration, "
+                     "at most ~%.0f s left)\n",
+                     p.iteration, p.event.c_str(), p.error, p.lambda, p.renders, p.seconds, p.seconds_per_iteration,
+                     p.seconds_left);
         return true;
     };
     const BysdfParams start = starting_params(targets);

@@ -47,9 +47,9 @@ public:
         : targets_(targets), start_(start), options_(options) {}
 
     BysdfParams params_at(const std::vector<double>& u) const {
-        BysdfParams p = start_;
-        for (size_t k = 0; k < u.size(); ++k) options_.unknowns[k].set(p, options_.unknowns[k].value_at(u[k]));
-        return p;
+        std::vector<float> values(u.size());
+        for (size_t k = 0; k < u.size(); ++k) values[k] = options_.unknowns[k].value_at(u[k]);
+        return apply_unknowns(start_, options_.unknowns, values);
     }
 
     std::vector<double> residuals(const std::vector<double>& u, std::vector<double>* per_target = nullptr) {
@@ -167,7 +167,9 @@ FitResult fit_bysdf(const std::vector<FitTarget>& targets, const BysdfParams& st
     result.history.push_back(error);
     double lambda = 1e-2;
 
-    auto report = [&](int iteration, const char* event) {
+    // Renders one iteration takes at least: a Jacobian column per unknown and one trial step.
+    const int renders_per_iteration = (n + 1) * int(targets.size());
+    auto report = [&](int iteration, const char* event, int column = 0) {
         if (!options.progress) return true;
         FitProgress p;
         p.iteration = iteration;
@@ -175,7 +177,13 @@ FitResult fit_bysdf(const std::vector<FitTarget>& targets, const BysdfParams& st
         p.error = error;
         p.lambda = lambda;
         p.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        const double per_render = p.seconds / std::max(1, p.renders);
+        const int this_iteration = iteration == 0 ? 0 : (column > 0 ? n - column + 1 : 0) * int(targets.size());
+        p.seconds_per_iteration = per_render * renders_per_iteration;
+        p.seconds_left = per_render * (this_iteration + (options.max_iterations - iteration) * renders_per_iteration);
         p.event = event;
+        p.column = column;
+        p.columns = n;
         return options.progress(p);
     };
     result.stop_reason = "max_iterations";
@@ -192,7 +200,12 @@ FitResult fit_bysdf(const std::vector<FitTarget>& targets, const BysdfParams& st
             u2[k] += h;
             const std::vector<double> r2 = objective.residuals(u2);
             for (size_t i = 0; i < m; ++i) J[i * n + k] = (r2[i] - r[i]) / h;
+            if (!report(it, "jacobian", k + 1)) {
+                result.stop_reason = "stopped";
+                break;
+            }
         }
+        if (result.stop_reason == "stopped") break;
         std::vector<double> A(n * n, 0.0), g(n, 0.0);
         for (size_t i = 0; i < m; ++i) {
             const double* row = &J[i * n];

@@ -23,7 +23,11 @@ struct FitProgress {
     double error = 0;     // best error so far
     double lambda = 0;    // Levenberg-Marquardt damping
     double seconds = 0;
-    std::string event;    // "start", "accepted", "rejected"
+    // Estimate from the mean render time so far: to the end of the iteration cap (the fit may
+    // stop sooner, when a step gains less than the tolerance), and for one more iteration.
+    double seconds_left = 0, seconds_per_iteration = 0;
+    std::string event;    // "start", "jacobian" (after each column), "accepted", "rejected"
+    int column = 0, columns = 0;  // "jacobian": finite differences done in this iteration, of
 };
 
 struct FitOptions {

@@ -2,11 +2,14 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -36,17 +39,64 @@ std::string temporary_path(const std::string& path) {
     return (p.parent_path() / (".tmp-" + p.stem().string() + "-" + unique + p.extension().string())).string();
 }
 
-void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+// The temporary being written, for discard_partial_output (one at a time: the CLI writes its
+// images one after the other; a second concurrent write is not registered).
+char g_partial_path[4096];
+std::atomic<bool> g_partial_set{false};
+
+bool register_partial(const std::string& tmp) {
+    bool expected = false;
+    if (tmp.size() >= sizeof(g_partial_path) || !g_partial_set.compare_exchange_strong(expected, true)) return false;
+    std::memcpy(g_partial_path, tmp.c_str(), tmp.size() + 1);
+    return true;
+}
+
+}  // namespace
+
+void discard_partial_output() {
+    if (g_partial_set.load()) unlink(g_partial_path);
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
     const std::string tmp = temporary_path(path);
+    const bool registered = register_partial(tmp);
     try {
         write(tmp);
         fs::rename(tmp, path);
     } catch (...) {
         std::error_code ignored;
         fs::remove(tmp, ignored);
+        if (registered) g_partial_set = false;
         throw;
     }
+    if (registered) g_partial_set = false;
 }
+
+void check_output_path(const std::string& path, const std::string& option, bool png_only) {
+    if (path.find('\0') != std::string::npos)
+        throw InputError(path.c_str(), option, "contains a NUL character; a file name cannot");
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw InputError(path, option, "is a folder, not a file name");
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (png_only && ext != ".png") throw InputError(path, option, "must end in .png (an sRGB PNG is written there)");
+    if (ext != ".exr" && ext != ".png") throw InputError(path, option, "must end in .exr or .png");
+    const fs::path parent = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");
+    if (!fs::exists(parent, ec)) throw InputError(path, option, "folder " + parent.string() + " does not exist");
+    if (!fs::is_directory(parent, ec)) throw InputError(path, option, parent.string() + " is not a folder");
+    if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
+        throw InputError(path, option, "exists and is not a regular file");
+    // The write goes through a temporary beside the output: make one now (permissions,
+    // read-only or special file systems, quotas on inodes), as root too, where access() says yes.
+    const std::string probe = temporary_path(path);
+    const int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd < 0)
+        throw InputError(path, option, "cannot create a file in " + parent.string() + ": " + std::strerror(errno));
+    close(fd);
+    unlink(probe.c_str());
+}
+
+namespace {
 
 float srgb_encode(float linear) {
     linear = std::max(0.0f, linear);
@@ -75,7 +125,7 @@ void write_multilayer_exr(const std::string& path, const RenderImage& image, con
             for (int c = 0; c < pc; ++c) data[i * nchannels + offset + c] = pass.pixels[i * pc + c];
         offset += pc;
     }
-    write_atomically(path, [&](const std::string& tmp) {
+    write_file_atomically(path, [&](const std::string& tmp) {
         auto out = ImageOutput::create(tmp);
         if (!out) throw std::runtime_error(path + ": cannot create an EXR writer: " + OIIO::geterror());
         if (!out->open(tmp, spec) || !out->write_image(TypeDesc::FLOAT, data.data()) || !out->close())
@@ -97,10 +147,21 @@ void write_png(const std::string& path, const RenderImage& image) {
         bytes[i * 4 + 3] = static_cast<unsigned char>(std::lround(255.0f * alpha));
     }
     ImageSpec spec(image.width, image.height, 4, TypeDesc::UINT8);
-    write_atomically(path, [&](const std::string& tmp) {
+    write_file_atomically(path, [&](const std::string& tmp) {
         auto out = ImageOutput::create(tmp);
         if (!out) throw std::runtime_error(path + ": cannot create a PNG writer: " + OIIO::geterror());
         if (!out->open(tmp, spec) || !out->write_image(TypeDesc::UINT8, bytes.data()) || !out->close())
+            throw std::runtime_error(path + ": cannot write: " + out->geterror());
+    });
+}
+
+void write_rgb_exr(const std::string& path, const ImageRGB& image) {
+    ImageSpec spec(image.width, image.height, 3, TypeDesc::HALF);
+    spec.attribute("compression", "zip");
+    write_file_atomically(path, [&](const std::string& tmp) {
+        auto out = ImageOutput::create(tmp);
+        if (!out) throw std::runtime_error(path + ": cannot create an EXR writer: " + OIIO::geterror());
+        if (!out->open(tmp, spec) || !out->write_image(TypeDesc::FLOAT, image.rgb.data()) || !out->close())
             throw std::runtime_error(path + ": cannot write: " + out->geterror());
     });
 }

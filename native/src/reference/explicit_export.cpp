@@ -15,7 +15,9 @@ YarnCurves gather_explicit_curves(const SceneDesc& scene, std::vector<uint32_t>*
         const YarnCurves& c = set.curves;
         const uint32_t point_base = static_cast<uint32_t>(all.control_points.size());
         const uint32_t segment_base = static_cast<uint32_t>(all.segment_first.size());
-        all.control_points.insert(all.control_points.end(), c.control_points.begin(), c.control_points.end());
+        for (const Vec4& p : c.control_points)  // back in world space (SceneDesc::origin), as floats
+            all.control_points.emplace_back(float(p.x + scene.origin[0]), float(p.y + scene.origin[1]),
+                                            float(p.z + scene.origin[2]), p.w);
         for (uint32_t s : c.segment_first) all.segment_first.push_back(point_base + s);
         for (size_t k = 1; k < c.curve_offsets.size(); ++k) {
             all.curve_offsets.push_back(point_base + c.curve_offsets[k]);

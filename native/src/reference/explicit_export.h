@@ -10,7 +10,8 @@
 
 namespace purl {
 
-// The explicit curves of every yarn set with material "ply" or "fiber", back to back.
+// The explicit curves of every yarn set with material "ply" or "fiber", back to back, in world
+// space (the scene's origin added back).
 YarnCurves gather_explicit_curves(const SceneDesc& explicit_scene, std::vector<uint32_t>* set_of_curve = nullptr);
 
 // Radii of `curves` in the order write_bcc writes their points.

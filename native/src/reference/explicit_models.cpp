@@ -76,6 +76,7 @@ SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model, const Exp
 
     SceneDesc out;
     out.source = scene.source;
+    out.origin = scene.origin;
     out.camera = scene.camera;
     out.film = scene.film;
     out.render = scene.render;

@@ -18,6 +18,10 @@ public:
     // Distance along the camera's viewing axis (Blender's Depth pass).
     float view_depth(Vec3 world_point) const;
     Vec3 position() const { return origin_; }
+    // A world direction in Blender's camera space (x right, y up, z toward the viewer).
+    Vec3 to_camera(Vec3 world_direction) const {
+        return {dot(world_direction, right_), dot(world_direction, up_), dot(world_direction, back_)};
+    }
 
 private:
     Vec3 camera_direction(float x, float y) const;  // unnormalised, camera space, z = -1

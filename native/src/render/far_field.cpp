@@ -22,6 +22,20 @@ namespace {
 constexpr float kMinCos = 1e-6f;  // as the BYSDF: the reference plane carries nothing
 constexpr float kCellSolidAngle = 4 * kPi / FarFieldTable::kCells;
 constexpr size_t kCachedTables = 4;
+std::atomic<int> g_nodes_done{0}, g_nodes_total{0};  // far_field_build_progress()
+
+// One build's share of g_nodes_*, taken back when the build ends (also by an exception).
+class BuildProgressScope {
+public:
+    explicit BuildProgressScope(const std::atomic<int>& done) : done_(done) { g_nodes_total += FarFieldTable::kThetaO; }
+    ~BuildProgressScope() {
+        g_nodes_done -= done_.load();
+        g_nodes_total -= FarFieldTable::kThetaO;
+    }
+
+private:
+    const std::atomic<int>& done_;
+};
 
 Vec3 clamp01(Vec3 c) { return {clamp(c.x, 0.0f, 1.0f), clamp(c.y, 0.0f, 1.0f), clamp(c.z, 0.0f, 1.0f)}; }
 
@@ -29,8 +43,9 @@ int color_classes(const BysdfParams& p) {
     return static_cast<int>(clamp(p.ply_color_count, 1.0f, float(kMaxPlyColors)));
 }
 
-// The material with its colours replaced by lobe markers: the BYSDF is linear in them, so one
-// evaluation gives the specular lobes in x and the body lobes in y, colour-free.
+// The material with its colours replaced by lobe markers: the lobe at the hit is linear in them,
+// so one evaluation gives the specular lobes in x and the body lobes in y (the plies crossed
+// come apart, from the material's own colours: MultiscaleYarn::crossing_colors).
 BysdfParams marker_params(const BysdfParams& material) {
     BysdfParams p = material;
     p.specular_reflection_albedo = p.specular_transmission_albedo = Vec3(1, 0, 0);
@@ -70,7 +85,7 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
     const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     classes_ = color_classes(material);
     const int g_count = groups();
-    values_.assign(size_t(kThetaO) * kCells * g_count, 0.0f);
+    values_.assign(size_t(kThetaO) * kCells * g_count * 3, 0.0f);
     pass_.assign(kThetaO, 1.0f);
     albedo_.assign(size_t(kThetaO) * g_count, 0.0f);
     distributions_.resize(kThetaO * 2);
@@ -89,9 +104,10 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
     const Vec3 axis(0, 0, 1);
 
     std::atomic<int> done{0};
+    const BuildProgressScope progress(done);
     const auto build_node = [&](int j) {
         const float sin_o = -1 + (j + 0.5f) * 2.0f / kThetaO, cos_o = safe_sqrt(1 - sin_o * sin_o);
-        std::vector<double> sum(size_t(kCells) * g_count, 0.0);
+        std::vector<double> sum(size_t(kCells) * g_count * 3, 0.0);
         std::vector<double> hit_share(cell_stride, 0.0);  // per residue of the query index
         double pass_sum = 0;
         Rng rng(0x66617266u + uint64_t(j));
@@ -124,7 +140,7 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
             q.footprint = yarn_footprint(ray, q.tube.point, q.axis.point, 1.0f);
             q.mode = MultiscaleMode::Far;
             q.u_strata = rng.next_float();
-            const MultiscaleYarn yarn{&frames, &d, &maps, &markers, uint32_t(qi), Vec3(1.0f), {}};
+            const MultiscaleYarn yarn{&frames, &d, &maps, &markers, uint32_t(qi), Vec3(1.0f), {}, &material};
             const MultiscaleBysdf m(yarn, settings, q);
             pass_sum += m.empty() ? 1.0 : m.pass_fraction();
             if (m.empty()) continue;
@@ -140,14 +156,18 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
                 const float sin_i = -1 + 2 * (row + rng.next_float()) / kThetaI;
                 const float phi = 2 * kPi * (col + rng.next_float()) / kPhi;
                 const Vec3 wi_m = m.frame().to_local(far.to_world(direction(sin_i, phi)));
-                double* acc = &sum[size_t(cell) * g_count];
+                double* acc = &sum[size_t(cell) * g_count * 3];
+                const auto add = [&](int g, float lobe, Vec3 crossed) {
+                    for (int ch = 0; ch < 3; ++ch) acc[g * 3 + ch] += double(lobe) * crossed[ch];
+                };
                 for (int k = 0; k < m.components(); ++k) {
                     const MultiscaleBysdf::Component& c = m.component(k);
-                    const Vec3 f = m.component_integrand(k, wo_m, wi_m) * share;
+                    Vec3 crossed;
+                    const Vec3 f = m.component_integrand(k, wo_m, wi_m, nullptr, &crossed) * share;
                     const int through = c.frame.to_local(wo_m).z * c.frame.to_local(wi_m).z < 0 ? 1 : 0;
                     const int cls = c.ply >= 0 ? c.ply % classes_ : 0;
-                    acc[through] += f.x;
-                    acc[2 + 2 * cls + through] += f.y;
+                    add(through, f.x, crossed);
+                    add(2 + 2 * cls + through, f.y, crossed);
                 }
             }
         }
@@ -157,15 +177,21 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
             const double norm = hit_share[cell % cell_stride];
             if (norm > 0)
                 for (int g = 0; g < g_count; ++g) {
-                    const float v = float(sum[size_t(cell) * g_count + g] / norm);
-                    values_[(size_t(j) * kCells + cell) * g_count + g] = v;
-                    albedo_[size_t(j) * g_count + g] += v * kCellSolidAngle;
-                    (g < 2 ? spec : body)[cell] += v;
+                    float mean = 0;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        const size_t i = (size_t(cell) * g_count + g) * 3 + ch;
+                        const float v = float(sum[i] / norm);
+                        values_[size_t(j) * kCells * g_count * 3 + i] = v;
+                        mean += v / 3;
+                    }
+                    albedo_[size_t(j) * g_count + g] += mean * kCellSolidAngle;
+                    (g < 2 ? spec : body)[cell] += mean;
                 }
         }
         distributions_[j * 2] = Distribution2D(spec.data(), kPhi, kThetaI);
         distributions_[j * 2 + 1] = Distribution2D(body.data(), kPhi, kThetaI);
         const int n = ++done;
+        ++g_nodes_done;
         if ((n == kThetaO / 2 || n == kThetaO) && elapsed() > 1.0)
             std::fprintf(stderr, "purl: tabulating the far field: %d/%d view angles, %.1f s\n", n, kThetaO, elapsed());
     };
@@ -178,6 +204,13 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
     build_seconds_ = elapsed();
 }
 
+FarFieldBuildProgress far_field_build_progress() {
+    FarFieldBuildProgress p;
+    p.total = g_nodes_total.load();
+    p.done = std::min(g_nodes_done.load(), p.total);
+    return p;
+}
+
 size_t FarFieldTable::memory_bytes() const {
     // Each Distribution2D row keeps its values and its CDF, plus the marginal.
     const size_t per_distribution = (size_t(kThetaI) * (2 * kPhi + 1) + 2 * kThetaI + 1) * sizeof(float);
@@ -186,13 +219,12 @@ size_t FarFieldTable::memory_bytes() const {
 
 std::shared_ptr<const FarFieldTable> far_field_table(const YarnDescription& d, const BysdfParams& material,
                                                      const MultiscaleSettings& s) {
-    // Key: every number that shapes the table (the colours are markers, so they drop out).
-    const BysdfParams markers = marker_params(material);
+    // Key: every number that shapes the table (the colours too: A_k of the plies crossed).
     std::vector<float> key;
     for (const ParamInfo& info : yarn_description_params())
         for (int c = 0; c < info.components; ++c) key.push_back(param_field(d, info)[c]);
     for (const ParamInfo& info : bysdf_param_table())
-        for (int c = 0; c < info.components; ++c) key.push_back(param_field(markers, info)[c]);
+        for (int c = 0; c < info.components; ++c) key.push_back(param_field(material, info)[c]);
     key.push_back(s.roughness_c);
 
     static std::mutex mutex;

@@ -4,13 +4,16 @@
 // material. Averaged over the phase the yarn is a cylinder, so the integrand depends only on
 // the directions in the yarn frame: theta_o, theta_i (from the normal plane) and phi_i - phi_o.
 //
-// The table is built once per (description, material without colours, C_beta) from the sampled
-// far field (MultiscaleBysdf in mode Far, so the traced h samples, chords and roughening are the
-// same model) on a straight yarn, and cached per process. The BYSDF is linear in its colours, so
-// it stores colour-free scalars per lobe group: specular reflection and transmission (x k^S),
-// body reflection and transmission per ply-colour class (x k^B x ply colour); a curve's own
-// colours multiply at lookup. Also per theta_o: the pass-through fraction and, for sampling,
-// piecewise-constant distributions (specular, body) over the incoming cells.
+// The table is built once per (description, material, C_beta) from the sampled far field
+// (MultiscaleBysdf in mode Far, so the traced h samples, chords, ply crossing and roughening are
+// the same model) on a straight yarn, and cached per process. The lobe at the hit is linear in
+// its colours, so it stores per lobe group: specular reflection and transmission (x k^S), body
+// reflection and transmission per ply-colour class (x k^B x ply colour), a curve's own colours
+// multiplying at lookup. Light that crosses other plies on its way out (traced crossing) is
+// multiplied by their A_k, a product of the material's albedos: that factor is tabulated per
+// channel from the material's colours (so the groups are RGB, and a curve recoloured by
+// curve_colors keeps the material's A_k). Also per theta_o: the pass-through fraction and, for
+// sampling, piecewise-constant distributions (specular, body) over the incoming cells.
 //
 // Approximations (docs/multiscale.md): the yarn is straight (curvature ignored), the phase is
 // averaged, and f is constant over each cell of wi (interpolated linearly in sin theta_o).
@@ -41,10 +44,14 @@ public:
 
     int classes() const { return classes_; }        // ply-colour classes
     int groups() const { return 2 + 2 * classes_; }  // spec R, spec T, body R per class, body T per class
-    // Colour-free integrand f |cos| (1/sr) of lobe group g at node j, cell c, given a hit.
-    float value(int node, int cell, int g) const { return values_[(size_t(node) * kCells + cell) * groups() + g]; }
+    // Integrand f |cos| (1/sr) of lobe group g at node j, cell c, given a hit: without the lobe's
+    // own albedo, with the plies crossed (per channel).
+    Vec3 value(int node, int cell, int g) const {
+        const float* v = &values_[((size_t(node) * kCells + cell) * groups() + g) * 3];
+        return {v[0], v[1], v[2]};
+    }
     float pass_fraction(int node) const { return pass_[node]; }
-    // Integral over the sphere of group g at node j (its albedo given a hit).
+    // Integral over the sphere of group g at node j (its albedo given a hit, channel mean).
     float albedo(int node, int g) const { return albedo_[size_t(node) * groups() + g]; }
     // Sampling densities over the cells in (phi, sin theta_i) in [0, 1)^2: 0 specular, 1 body.
     const Distribution2D& distribution(int node, int kind) const { return distributions_[node * 2 + kind]; }
@@ -63,11 +70,18 @@ private:
     double build_seconds_ = 0;
 };
 
-// The table for this description and material (colours do not matter), built on first use and
-// kept for the process (the last few keys). Thread-safe; prints a progress line to stderr when
-// a build takes more than a second.
+// The table for this description and material (its colours count through the plies crossed),
+// built on first use and kept for the process (the last few keys). Thread-safe; prints a
+// progress line to stderr when a build takes more than a second.
 std::shared_ptr<const FarFieldTable> far_field_table(const YarnDescription& d, const BysdfParams& material,
                                                      const MultiscaleSettings& s);
+
+// Tabulations under way in this process: view angles done and to do over all of them (both 0
+// when none runs), so front ends can show a table's build as progress instead of a stall.
+struct FarFieldBuildProgress {
+    int done = 0, total = 0;
+};
+FarFieldBuildProgress far_field_build_progress();
 
 // The far field of one hit: the table with this curve's colours. Local frame: +x the yarn
 // tangent, +z the view direction projected onto the normal plane (wo.y = 0 for the camera ray).

@@ -8,6 +8,9 @@
 namespace purl {
 
 constexpr float kNoHitDepth = 1e10f;  // Cycles' Depth for pixels that see no surface
+// Cycles' pass names, which Blender's Denoise node is meant to be fed with.
+inline constexpr const char* kDenoisingAlbedoPass = "Denoising Albedo";
+inline constexpr const char* kDenoisingNormalPass = "Denoising Normal";
 
 struct PixelResult {
     Vec3 color;        // premultiplied by alpha
@@ -20,6 +23,9 @@ struct PixelResult {
     // along the ply from the root), 0 when none.
     float ply_index = -1;
     float u_ply = 0, v_ply = 0;
+    // Denoising features (render/denoising_features.h): mean albedo and camera-space normal of
+    // each sample's first non-specular hit; 0 where samples saw no surface.
+    Vec3 denoising_albedo, denoising_normal;
 };
 
 class Film {
@@ -30,8 +36,8 @@ public:
     PixelResult& at(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
     const PixelResult& at(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
 
-    // Combined (RGBA), Depth (Z), Normal (XYZ), YarnID (X), PlyIndex (X), PlyUV (U, V), rows top
-    // to bottom.
+    // Combined (RGBA), Depth (Z), Normal (XYZ), YarnID (X), PlyIndex (X), PlyUV (U, V),
+    // Denoising Albedo (RGB), Denoising Normal (XYZ), rows top to bottom.
     RenderImage to_image() const;
 
 private:

@@ -4,7 +4,9 @@
 #include <cstddef>
 #include <cstdio>
 
+#include "math/ray_cylinder.h"
 #include "scene/input_error.h"
+#include "yarn/ply_crossings.h"
 #include "yarn/yarn_shading_point.h"
 
 namespace purl {
@@ -17,25 +19,18 @@ constexpr float kGolden = 0.61803398875f;
 // Entry of the line o + s d (d unit) into the straight cylinder (c, axis, radius); false when
 // it misses or runs along the axis. A line that only grazes enters at its closest point.
 bool cylinder_entry(Vec3 o, Vec3 d, Vec3 c, Vec3 axis, float radius, float max_offset, Vec3& entry) {
-    const Vec3 w = o - c;
-    const Vec3 w_perp = w - axis * dot(w, axis), d_perp = d - axis * dot(d, axis);
-    const float a = dot(d_perp, d_perp);
-    if (!(a > 1e-12f)) return false;
-    const float b = dot(w_perp, d_perp), cc = dot(w_perp, w_perp) - radius * radius;
-    const float disc = b * b - a * cc;
-    if (disc < -a * sqr(max_offset * radius)) return false;  // misses by more than max_offset radii
-    entry = o + d * ((-b - safe_sqrt(disc)) / a);
+    const RayCylinder r = ray_cylinder(o, d, c, axis, radius);
+    if (r.along_axis()) return false;
+    if (r.discriminant() < -r.a * sqr(max_offset * radius)) return false;  // misses by more than max_offset radii
+    entry = o + d * r.entry();
     return is_finite(entry);
 }
 
 // Distance (yarn radii) from `offset` (inside, relative to the axis, in radii) along unit d to
 // the straight tube's wall.
 float chord_in_radii(Vec3 offset, Vec3 axis, Vec3 d) {
-    const Vec3 w_perp = offset - axis * dot(offset, axis), d_perp = d - axis * dot(d, axis);
-    const float a = dot(d_perp, d_perp);
-    if (!(a > 1e-12f)) return kMaxChord;
-    const float b = dot(w_perp, d_perp), c = std::min(dot(w_perp, w_perp) - 1.0f, 0.0f);
-    return clamp((-b + safe_sqrt(b * b - a * c)) / a, 0.0f, kMaxChord);
+    const RayCylinder r = ray_cylinder(offset, d, Vec3(0.0f), axis, 1.0f);
+    return r.along_axis() ? kMaxChord : clamp(r.chord(), 0.0f, kMaxChord);
 }
 
 // The line parallel to the camera ray at `dh` yarn radii across the yarn, entering the
@@ -174,6 +169,8 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     // ray's own cross-section (q.axis), exact on straight yarns and with no curve evaluation
     // (docs/multiscale.md).
     const bool local = yarn.trace.cross_section != PlyCrossSection::circular;
+    PlyTraceOptions around = yarn.trace;
+    around.cross_section = PlyCrossSection::local;
     const YarnTwist twist = yarn_twist(frames, desc);
     YarnShadingPoint hits[kMaxHSamples];
     float hit_h[kMaxHSamples], hit_len[kMaxHSamples];
@@ -192,10 +189,9 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
         }
         ++samples_;
         total_length += len;
-        const PlyHit ply =
-            j == 0   ? trace_plies(frames, desc, twist, q.tube, yarn.trace)
-            : local  ? trace_plies_local(frames, desc, twist, virtual_entry(q, h - h_main), q.axis, yarn.trace)
-                     : trace_plies(frames, desc, twist, virtual_hit(frames, q, h - h_main), yarn.trace);
+        const PlyHit ply = j == 0  ? trace_plies({frames, desc, twist, q.tube}, yarn.trace)
+                           : local ? trace_plies({frames, desc, twist, virtual_entry(q, h - h_main), &q.axis}, around)
+                                   : trace_plies({frames, desc, twist, virtual_hit(frames, q, h - h_main)}, yarn.trace);
         const YarnShadingPoint y = shade_ply_hit(ply, frames, desc, twist, *yarn.maps, yarn.curve_key);
         if (!y.hit) continue;
         if (j == 0) own_hit = true;
@@ -247,17 +243,35 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     }
     axis_tangent_ = frame_.to_local(axis.tangent);
 
+    if (params.ply_crossing >= 0.5f) crossing_ = &desc;
+    // A hit's section in the straight yarn of the camera ray's cross-section, local axes.
+    auto local_section = [&](const YarnShadingPoint& y) {
+        CurvePoint c = axis;
+        const float along = dot(y.position - axis.position, axis.tangent);
+        c.position += axis.tangent * along;
+        c.arc_length += along;
+        PlySection ps = ply_section(c, desc, twist, y.ply_index, y.position);
+        ps.tangent = frame_.to_local(ps.tangent);
+        ps.hit_outward = frame_.to_local(ps.hit_outward);
+        ps.offset = frame_.to_local(ps.offset);
+        return ps;
+    };
+
     if (settings.aggregation == MultiscaleAggregation::Aggregate) {
         BysdfParams p = params;
         p.ply_color_count = 1;
         p.ply_colors[0] = tint_sum;
-        BysdfShadingPoint bp{gp, gf, std::max(1, static_cast<int>(std::lround(crossed))), 0, yarn.yarn_color};
+        BysdfShadingPoint bp{gp, gf, std::max(1, static_cast<int>(std::lround(crossed))), 0, yarn.yarn_color,
+                             yarn.maps->mean_fiber_shadowing()};
         Component& c = components_[0];
         c.bsdf.emplace(p, bp);
         c.frame = Frame();
         c.offset = frame_.to_local(rep.position - axis.position) / radius;
         c.h = hit_h[nearest];
         c.weight = 1;
+        c.ply = rep.ply_index;
+        if (crossing_) c.section = local_section(rep);
+        c.crossing_colors = c.bsdf->pass_on();
         count_ = 1;
         same_frame_ = true;
         return;
@@ -265,8 +279,9 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
     for (int k = 0; k < hit_count; ++k) {
         const YarnShadingPoint& y = hits[k];
         Component& c = components_[k];
-        c.bsdf.emplace(params, BysdfShadingPoint{y.ply_shadowing, y.fiber_shadowing, std::max(1, y.plies_crossed),
-                                                 y.ply_index, yarn.yarn_color});
+        const BysdfShadingPoint point{y.ply_shadowing, y.fiber_shadowing, std::max(1, y.plies_crossed),
+                                      y.ply_index, yarn.yarn_color, yarn.maps->mean_fiber_shadowing()};
+        c.bsdf.emplace(params, point);
         const Frame f = Frame::from_normal_tangent(y.fiber_normal, y.fiber_tangent);
         c.frame.s = frame_.to_local(f.s);
         c.frame.t = frame_.to_local(f.t);
@@ -275,6 +290,8 @@ MultiscaleBysdf::MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSet
         c.h = hit_h[k];
         c.weight = hit_len[k] / hit_length;
         c.ply = y.ply_index;
+        if (crossing_) c.section = local_section(y);
+        c.crossing_colors = yarn.crossing_colors ? Bysdf(*yarn.crossing_colors, point).pass_on() : c.bsdf->pass_on();
     }
     count_ = hit_count;
     same_frame_ = single;
@@ -285,23 +302,32 @@ float MultiscaleBysdf::pass_distance() const {
     return tube_chord_length(*frames_, axis_segment_, axis_t_, entry_.point, entry_.direction);
 }
 
-Vec3 MultiscaleBysdf::component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf) const {
+BsdfEvalPdf MultiscaleBysdf::component_eval(const Component& c, Vec3 wo_k, Vec3 wi_k, Vec3 wi, Vec3* crossed) const {
+    if (crossing_) {  // every leaving ray may cross other plies
+        const float chord = chord_in_radii(c.offset, axis_tangent_, wi);
+        PlyCrossings plies = cross_plies(c.section, *crossing_, c.ply, wi, chord);
+        if (crossed) {  // A_k apart: the BYSDF then attenuates by the hit ply's own path only
+            *crossed = c.crossing_colors.product(plies);
+            plies.others = 0;
+        }
+        return c.bsdf->eval_pdf(wo_k, wi_k, chord, &plies);
+    }
+    const float chord = wo_k.z * wi_k.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
+    return c.bsdf->eval_pdf(wo_k, wi_k, chord);
+}
+
+Vec3 MultiscaleBysdf::component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf, Vec3* crossed) const {
     const Component& c = components_[k];
     const Vec3 wo_k = c.frame.to_local(wo), wi_k = c.frame.to_local(wi);
-    const float chord = wo_k.z * wi_k.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
-    if (!pdf) return c.bsdf->eval(wo_k, wi_k, chord) * (c.weight * std::fabs(wi_k.z));
-    const BsdfEvalPdf e = c.bsdf->eval_pdf(wo_k, wi_k, chord);
-    *pdf += c.weight * e.pdf;
+    if (crossed) *crossed = Vec3(1.0f);
+    const BsdfEvalPdf e = component_eval(c, wo_k, wi_k, wi, crossed);
+    if (pdf) *pdf += c.weight * e.pdf;
     return e.f * (c.weight * std::fabs(wi_k.z));
 }
 
 BsdfEvalPdf MultiscaleBysdf::evaluate(Vec3 wo, Vec3 wi) const {
     BsdfEvalPdf out;
-    if (same_frame_) {
-        const Component& c = components_[0];
-        const float chord = wo.z * wi.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
-        return c.bsdf->eval_pdf(wo, wi, chord);
-    }
+    if (same_frame_) return component_eval(components_[0], wo, wi, wi);
     const float cos_ref = std::fabs(wi.z);
     for (int k = 0; k < count_; ++k) out.f += component_integrand(k, wo, wi, &out.pdf);
     // f~ |cos_ref| is the integrand; the reference plane itself carries nothing.

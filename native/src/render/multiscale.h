@@ -10,7 +10,7 @@
 // The stratum holding h0 uses the camera ray itself (h0 is uniform over the pixel); the others
 // are jittered by one per-hit random number, and for each a virtual ray parallel to the camera
 // ray, offset across the yarn, enters the tube and goes through the implicit ply query on the
-// yarn straightened at the camera ray's cross-section (trace_plies_local: no curve evaluation)
+// yarn straightened at the camera ray's cross-section (PlyQuery::around: no curve evaluation)
 // and the fiber maps. A ray between the plies passes straight through (pass_fraction).
 //
 // Aggregation::Mixture (default) keeps each h_k's own frame, shading values and position:
@@ -45,6 +45,7 @@
 #include "scene/multiscale_settings.h"
 #include "yarn/fiber_maps.h"
 #include "yarn/implicit_plies.h"
+#include "yarn/ply_crossings.h"
 #include "yarn/yarn_description.h"
 #include "yarn/yarn_tube.h"
 
@@ -94,6 +95,10 @@ struct MultiscaleYarn {
     uint32_t curve_key = 0;       // as passed to trace_yarn_hit
     Vec3 yarn_color{1.0f};        // BysdfShadingPoint::yarn_color
     PlyTraceOptions trace{};
+    // The far-field table's build: `params` holds lobe markers in place of the albedos, and the
+    // other plies' A_k (traced ply crossing) come from these colours, kept apart
+    // (component_integrand's `crossed`). Null: params' own colours.
+    const BysdfParams* crossing_colors = nullptr;
 };
 
 // One camera-ray hit on the yarn tube.
@@ -114,6 +119,8 @@ public:
         float h = 0;                // its azimuthal offset
         float weight = 0;           // w_k, summing to 1 over the components
         int ply = 0;                // ply index of its hit (selects the ply colour)
+        PlySection section;         // traced ply crossing: its hit in local coordinates, yarn radii
+        PlyPassOn crossing_colors;  // with MultiscaleYarn::crossing_colors: what the plies crossed pass on
     };
 
     MultiscaleBysdf(const MultiscaleYarn& yarn, const MultiscaleSettings& settings, const MultiscaleQuery& q);
@@ -149,7 +156,9 @@ public:
     int components() const { return count_; }       // Mixture: hits among them; Aggregate: 1
     const Component& component(int k) const { return components_[k]; }
     // Component k's share of the integrand, w_k f_k |cos_k| (attenuated); with `pdf`, adds w_k pdf_k there.
-    Vec3 component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf = nullptr) const;
+    // With `crossed` (traced crossing only), the other plies' A_k product is left out of the
+    // result and returned there, from MultiscaleYarn::crossing_colors when given.
+    Vec3 component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf = nullptr, Vec3* crossed = nullptr) const;
     float h1() const { return h1_; }
     float h2() const { return h2_; }
     float roughness_increase() const { return roughness_increase_; }  // (h2 - h1) / C_beta
@@ -157,6 +166,8 @@ public:
 
 private:
     BsdfEvalPdf evaluate(Vec3 wo, Vec3 wi) const;
+    // Component c's BYSDF at its own directions, attenuated along wi (reference frame).
+    BsdfEvalPdf component_eval(const Component& c, Vec3 wo_k, Vec3 wi_k, Vec3 wi, Vec3* crossed = nullptr) const;
 
     std::array<Component, kMaxHSamples> components_;
     int count_ = 0, samples_ = 0;
@@ -172,6 +183,7 @@ private:
     YarnTubeHit entry_;
     uint32_t axis_segment_ = 0;
     float axis_t_ = 0;
+    const YarnDescription* crossing_ = nullptr;  // traced ply crossing: the plies to cross
     float h1_ = 0, h2_ = 0, roughness_increase_ = 0, g_multi_ = 1;
     MultiscaleMode mode_ = MultiscaleMode::Near;
 };

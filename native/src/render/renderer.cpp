@@ -13,9 +13,14 @@
 #include <limits>
 #include <mutex>
 
+#include "math/ray_spawn.h"
 #include "math/rng.h"
 #include "reference/explicit_models.h"
+#include "render/denoise.h"
+#include "render/denoising_features.h"
 #include "render/film.h"
+#include "render/path_regularization.h"
+#include "render/render_origin.h"
 #include "render/shading.h"
 #include "scene/input_error.h"
 
@@ -40,17 +45,24 @@ double seconds_since(Clock::time_point start) {
 
 // The film and its passes take about 76 bytes a pixel; the JSON reader allows 32768 pixels
 // a side, whose film alone would be 76 GiB. Refused before anything is allocated.
-void check_film_size(const SceneDesc& scene) {
+void check_film_size(const FilmDesc& film, const std::string& source) {
     constexpr uint64_t kMaxFilmPixels = uint64_t(1) << 26;  // 8192 x 8192, about 5 GiB
-    const uint64_t pixels = uint64_t(std::max(scene.film.width, 0)) * uint64_t(std::max(scene.film.height, 0));
+    const uint64_t pixels = uint64_t(std::max(film.width, 0)) * uint64_t(std::max(film.height, 0));
     if (pixels == 0 || pixels > kMaxFilmPixels) {
         const uint64_t bytes = pixels * (sizeof(PixelResult) + 9 * sizeof(float));
-        throw InputError(scene.source, "film",
-                         std::to_string(scene.film.width) + " x " + std::to_string(scene.film.height) +
+        throw InputError(source, "film",
+                         std::to_string(film.width) + " x " + std::to_string(film.height) +
                              " pixels: a render may have 1 to " + std::to_string(kMaxFilmPixels) +
                              " pixels (8192 x 8192); this film and its passes would take " +
                              std::to_string(bytes >> 30) + " GiB");
     }
+}
+
+// The scene as rendered: centred on its cloth (render/render_origin.h), then made explicit when
+// the render asks for the ply or fiber reference.
+SceneDesc scene_to_render(SceneDesc scene) {
+    move_to_render_origin(scene, render_origin(scene));
+    return scene.render.model == YarnModel::Bysdf ? std::move(scene) : make_explicit_scene(scene, scene.render.model);
 }
 
 }  // namespace
@@ -62,9 +74,8 @@ struct Renderer::PathTotals {
 };
 
 Renderer::Renderer(SceneDesc scene)
-    : scene_(scene.render.model == YarnModel::Bysdf ? std::move(scene) : make_explicit_scene(scene, scene.render.model)),
-      camera_(scene_.camera, scene_.film) {
-    check_film_size(scene_);
+    : scene_(scene_to_render(std::move(scene))), camera_(scene_.camera, scene_.film) {
+    check_film_size(scene_.film, scene_.source);
     const auto start = Clock::now();
     geometry_ = std::make_unique<EmbreeScene>(scene_);
     lights_ = std::make_unique<Lights>(scene_);
@@ -78,6 +89,16 @@ Renderer::Renderer(SceneDesc scene)
 }
 
 Renderer::~Renderer() = default;
+
+void Renderer::set_view(const CameraDesc& camera, const FilmDesc& film, const Point64& camera_origin) {
+    check_film_size(film, scene_.source);
+    CameraDesc moved = camera;  // into the frame the scene was moved to, in double
+    for (int r = 0; r < 3; ++r)
+        moved.to_world.m[r][3] = float((double(camera.to_world.m[r][3]) + camera_origin[r]) - scene_.origin[r]);
+    camera_ = Camera(moved, film);
+    scene_.camera = moved;
+    scene_.film = film;
+}
 
 RenderResult Renderer::render(RenderControl& control) const { return render(scene_.render, control); }
 
@@ -102,6 +123,8 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
         },
         scene_.yarns.size());
     const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
+    // Before any work: a missing OIDN fails here, not after the samples.
+    const std::shared_ptr<const Denoiser> denoiser = settings.denoise ? Denoiser::load() : nullptr;
     tbb::task_arena arena(threads);
     const auto start = Clock::now();
     arena.execute([&] {
@@ -136,6 +159,11 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     RenderStats& s = result.stats;
     s.build_seconds = build_seconds_;
     s.render_seconds = seconds_since(start);
+    if (denoiser && !result.cancelled) {
+        const auto denoise_start = Clock::now();
+        denoiser->denoise(result.image, {threads});
+        s.denoise_seconds = seconds_since(denoise_start);
+    }
     s.samples = uint64_t(width) * height * settings.spp;
     s.rays = rays;
     s.mean_path_length = s.samples ? double(interactions) / double(s.samples) : 0.0;
@@ -158,9 +186,10 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
 
 void Renderer::render_pixel(int px, int py, const RenderSettings& settings, const MultiscaleSelector& multiscale,
                             PixelResult& out, PathTotals& totals) const {
-    Vec3 color_sum(0.0f), normal_sum(0.0f);
+    Vec3 color_sum(0.0f), normal_sum(0.0f), albedo_sum(0.0f), denoising_normal_sum(0.0f);
     double alpha_sum = 0;
-    for (int s = 0; s < settings.spp; ++s) {
+    const int first = settings.first_sample;  // sample 0 of this pass sets the per-sample passes
+    for (int s = first; s < first + settings.spp; ++s) {
         Rng rng = pixel_sample_rng(settings.seed, uint32_t(px), uint32_t(py), uint32_t(s));
         const float jx = rng.next_float(), jy = rng.next_float();
         Ray ray = camera_.generate_ray(px + jx, py + jy);
@@ -171,7 +200,9 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
         Vec3 radiance(0.0f), throughput(1.0f);
         float alpha = 1.0f;
         float previous_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that made `ray`
+        float min_bounce_pdf = std::numeric_limits<float>::infinity();  // path regularisation
         int depth = 0, pass_throughs = 0, light_pass_throughs = 0;
+        DenoisingPath features;
         while (depth < settings.max_depth) {
             SurfaceHit hit;
             ++totals.rays;
@@ -208,7 +239,7 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             if (depth == 0 && pass_throughs == 0) {
                 out.depth = std::min(out.depth, camera_.view_depth(hit.position));
                 normal_sum += dot(hit.geometric_normal, ray.direction) < 0 ? hit.geometric_normal : -hit.geometric_normal;
-                if (s == 0 && hit.kind == SurfaceKind::Yarn)
+                if (s == first && hit.kind == SurfaceKind::Yarn)
                     out.yarn_id = float(yarn_id_base_[hit.object] +
                                         uint32_t(scene_.yarns[hit.object].curves.curve_ids[hit.curve]) + 1);
             }
@@ -216,7 +247,7 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             // shaded by the multi-scale selector; deeper rays shade near.
             MultiscaleHitContext camera_hit;
             if (depth == 0) camera_hit = {&multiscale, hit_rng.next_float(), hit_rng.next_float()};
-            const SurfaceInteraction si = shader_->shade(hit, ray, depth == 0 ? &camera_hit : nullptr);
+            SurfaceInteraction si = shader_->shade(hit, ray, depth == 0 ? &camera_hit : nullptr);
             if (si.multiscale_hit) {
                 ++totals.hits_by_mode[si.multiscale_mode == MultiscaleMode::Far     ? 2
                                       : si.multiscale_mode == MultiscaleMode::Multi ? 1
@@ -226,22 +257,23 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             if (si.pass_through) {
                 // Between the plies: the ray goes on through the yarn, no scattering.
                 if (++pass_throughs > kMaxPassThroughs) break;
-                const float advance = hit.t + si.continue_distance + ray_offset(hit.position, hit.radius);
-                ray.origin = ray.at(advance);
+                ray.tmax = std::max(0.0f, ray.tmax - dot(si.continue_origin - ray.origin, ray.direction));
+                ray.origin = si.continue_origin;
                 ray.tmin = 0.0f;
-                ray.tmax = std::max(0.0f, ray.tmax - advance);
                 continue;
             }
             ++totals.interactions;
-            if (s == 0 && depth == 0) {
+            if (s == first && depth == 0) {
                 out.ply_index = float(si.ply_index);
                 if (si.ply_index >= 0) {
                     out.u_ply = si.u_ply;
                     out.v_ply = si.v_ply;
                 }
             }
+            if (depth > 0) roughen(si.point, regularization_alpha(settings.filter_glossy, min_bounce_pdf));
             const ShadingPoint& sp = si.point;
             const Vec3 wo = -ray.direction;
+            features.record(sp, wo, camera_);
             if (sp.holdout) {  // cut out of the image, and black to everything else
                 if (depth == 0) alpha = 0.0f;
                 break;
@@ -254,12 +286,12 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             if (lights_->sample(sp.position, u_light, u_light2, ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
                 const ShadingPoint::Exit exit = sp.leave(ls.wi);
                 float bsdf_pdf = -1.0f;  // given with f by the multi-scale mixture, else asked below
-                const Vec3 f = sp.eval(wo, ls.wi, exit.chord, &bsdf_pdf);
+                const Vec3 f = sp.eval(wo, ls.wi, exit, &bsdf_pdf);
                 const float cos_i = std::fabs(dot(ls.wi, sp.frame.n));
                 if (!is_black(f) && cos_i > 0) {
                     ++totals.rays;
-                    const float travelled = length(exit.origin - sp.position);
-                    if (!geometry_->occluded(exit.origin, ls.wi, 0.0f, (ls.distance - travelled) * (1 - 1e-4f))) {
+                    const ShadowRay shadow = shadow_ray_to_light(exit.origin, sp.position, ls.wi, ls.distance);
+                    if (shadow.empty || !geometry_->occluded(shadow.origin, shadow.direction, 0.0f, shadow.tmax)) {
                         if (!ls.delta && bsdf_pdf < 0) bsdf_pdf = sp.pdf(wo, ls.wi);
                         const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, bsdf_pdf);
                         radiance += throughput * f * ls.radiance * (cos_i * w / ls.pdf);
@@ -276,6 +308,7 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             throughput *= bs->f * (std::fabs(dot(bs->wi, sp.frame.n)) / bs->pdf);
             if (is_black(throughput)) break;
             previous_pdf = bs->pdf;
+            min_bounce_pdf = std::min(min_bounce_pdf, bs->pdf);
             ++depth;
             if (depth >= kRouletteDepth) {
                 const float survive = std::min(0.95f, max_component(throughput));
@@ -286,6 +319,8 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             ray.origin = exit.origin;
             ray.direction = bs->wi;
         }
+        albedo_sum += features.albedo();
+        denoising_normal_sum += features.normal();
         if (!is_finite(radiance) || radiance.x < 0 || radiance.y < 0 || radiance.z < 0) {
             ++totals.invalid;
             continue;  // dropped: counts as black
@@ -298,6 +333,8 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
     const float inv = 1.0f / float(settings.spp);
     out.color = color_sum * inv;
     out.alpha = float(alpha_sum * inv);
+    out.denoising_albedo = albedo_sum * inv;
+    out.denoising_normal = denoising_normal_sum * inv;
     const float nl = length(normal_sum);
     out.normal = nl > 0 ? normal_sum / nl : Vec3(0.0f);
 }

@@ -34,6 +34,7 @@ struct RenderStats {
     uint64_t rays = 0;             // all rays traced: camera, bounce and shadow
     double mean_path_length = 0;   // surface interactions per camera sample
     uint64_t invalid_samples = 0;  // NaN/Inf samples caught and dropped
+    double denoise_seconds = 0;    // Open Image Denoise after the render (0 when off)
     size_t acceleration_bytes = 0;  // Embree's BVH and primitive data
     size_t shading_bytes = 0;       // curve frames and fiber maps
     size_t control_points = 0;
@@ -61,8 +62,16 @@ class Renderer {
 public:
     explicit Renderer(SceneDesc scene);
     ~Renderer();
+    // The scene as rendered: centred on its cloth (its `origin` says where that is in the
+    // world, render/render_origin.h), explicit for ply/fiber renders.
     const SceneDesc& scene() const { return scene_; }
     const Camera& camera() const { return camera_; }
+
+    // Another camera and film for the next renders: a viewport's view changes need no new
+    // acceleration structure. Throws InputError for a film size render() would refuse.
+    // Never while a render runs. The camera's placement is relative to `camera_origin` (the
+    // SceneDesc::origin of the scene it was read with).
+    void set_view(const CameraDesc& camera, const FilmDesc& film, const Point64& camera_origin);
 
     // Renders with the scene's settings; `control` may cancel it from another thread.
     RenderResult render(RenderControl& control) const;

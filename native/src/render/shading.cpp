@@ -7,6 +7,7 @@
 
 #include "bsdf/ply_bsdf.h"
 #include "math/bspline.h"
+#include "math/ray_spawn.h"
 #include "reference/explicit_sampling.h"
 #include "scene/input_error.h"
 #include "yarn/yarn_shading_point.h"
@@ -14,12 +15,31 @@
 
 namespace purl {
 
-float ray_offset(Vec3 p, float yarn_radius) {
-    const float m = std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z)));
-    return 64.0f * std::numeric_limits<float>::epsilon() * m + 1e-2f * yarn_radius;
+namespace {
+
+// The origin of a ray leaving a tube at `exit`, a point on its wall found by a search along
+// the ray, whose centre-line parameter is (segment, t): the point is put back on the wall
+// (the search stops within a tolerance of it) and moved off by the wall's float error.
+Vec3 spawn_from_tube(const CurveFrames& tube, uint32_t segment, float t, Vec3 exit, Vec3 w) {
+    const CurvePoint c = tube.evaluate_centreline(segment, t);
+    Vec3 radial = exit - c.position;
+    radial -= c.tangent * dot(radial, c.tangent);
+    const float len = length(radial);
+    SpawnPoint p;
+    p.position = exit;
+    p.normal = w;  // on the centre-line (a degenerate tube): straight on
+    if (len > 0 && std::isfinite(len)) {
+        p.normal = radial / len;
+        p.position = c.position + p.normal * c.radius;
+    }
+    p.error = curve_point_error(tube.view().segment_points(segment));
+    return spawn_origin(p, w);
 }
 
+}  // namespace
+
 ShadingPoint::Exit ShadingPoint::leave(Vec3 wi) const {
+    Exit exit;
     if (cylinder_radius > 0) {
         // Where the ray leaves the cylinder it starts in (0 when it heads outward); rays nearly
         // along the axis are cut at 20 radii, where the fiber has bent away anyway.
@@ -28,19 +48,49 @@ ShadingPoint::Exit ShadingPoint::leave(Vec3 wi) const {
         const float a = dot(vp, vp), b = dot(qp, vp), c = dot(qp, qp) - cylinder_radius * cylinder_radius;
         float chord = a > 1e-12f ? (-b + std::sqrt(std::max(0.0f, b * b - a * c))) / a : 0.0f;
         chord = clamp(chord, 0.0f, 20 * cylinder_radius);
-        return {position + wi * (chord + ray_offset(position, cylinder_radius)), 0.0f};
+        const Vec3 exit_q = qp + vp * chord;  // across the axis at the exit
+        const float across = length(exit_q), along = dot(q + wi * chord, cylinder_axis);
+        SpawnPoint p;
+        p.position = position + wi * chord;
+        p.normal = across > 0 ? exit_q / across : surface_normal;
+        p.error = error + 0.5f * cylinder_curvature * along * along;
+        exit.origin = spawn_origin(p, wi);
+        return exit;
     }
     if (tube) {
-        const float chord = tube_chord_length(*tube, segment, t, position, wi);
-        return {position + wi * (chord + ray_offset(position, yarn_radius)), chord / yarn_radius};
+        const TubeExit e = tube_exit(*tube, segment, t, position, wi);
+        exit.origin = spawn_from_tube(*tube, e.segment, e.t, position + wi * e.distance, wi);
+        exit.chord = e.distance / yarn_radius;
+        if (yarn) {
+            exit.crossed = true;
+            exit.plies = cross_plies(section, *yarn, ply, wi, exit.chord);
+        }
+        return exit;
     }
-    const float side = dot(surface_normal, wi) >= 0 ? offset : -offset;
-    return {position + surface_normal * side, 0.0f};
+    exit.origin = spawn_origin({position, surface_normal, error}, wi);
+    return exit;
 }
 
-Vec3 ShadingPoint::eval(Vec3 wo_world, Vec3 wi_world, float chord, float* pdf_out) const {
+void SurfaceShader::pass_through(const SurfaceHit& hit, const Ray& ray, const CurveFrames& frames, float distance,
+                                 SurfaceInteraction& out) {
+    out.pass_through = true;
+    const Vec3 exit = hit.position + ray.direction * distance;
+    // The exit's centre-line parameter, by Newton from the entry's; a long way along the yarn
+    // (a ray nearly along it) the search for the exit gives it.
+    const CentrelineProjection at = project_to_centreline(frames, exit, hit.segment, hit.u);
+    if (at.converged) {
+        out.continue_origin = spawn_from_tube(frames, at.segment, at.t, exit, ray.direction);
+        return;
+    }
+    const TubeExit e = tube_exit(frames, hit.segment, hit.u, hit.position, ray.direction);
+    out.continue_origin = spawn_from_tube(frames, e.segment, e.t, hit.position + ray.direction * e.distance,
+                                          ray.direction);
+}
+
+Vec3 ShadingPoint::eval(Vec3 wo_world, Vec3 wi_world, const Exit& exit, float* pdf_out) const {
     const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
-    if (const Bysdf* b = std::get_if<Bysdf>(&bsdf)) return b->eval(wo, wi, chord);
+    if (const Bysdf* b = std::get_if<Bysdf>(&bsdf))
+        return b->eval(wo, wi, exit.chord, exit.crossed ? &exit.plies : nullptr);
     if (pdf_out) {
         std::optional<BsdfEvalPdf> r;
         if (const MultiscaleBysdf* m = std::get_if<MultiscaleBysdf>(&bsdf)) r = m->eval_pdf(wo, wi);
@@ -65,9 +115,10 @@ std::optional<BsdfSample> ShadingPoint::sample(Vec3 wo_world, float u_lobe, Vec2
     const Vec3 wi_local = s->wi;
     s->wi = frame.to_world(wi_local);
     exit = leave(s->wi);
-    // The BYSDF samples without knowing the path through the yarn; attenuate now.
-    if (const Bysdf* b = std::get_if<Bysdf>(&bsdf); b && s->is_transmission())
-        s->f = b->eval(wo, wi_local, exit.chord);
+    // The BYSDF samples without knowing the path through the yarn; attenuate now (traced ply
+    // crossing: reflected rays may cross other plies too).
+    if (const Bysdf* b = std::get_if<Bysdf>(&bsdf); b && (s->is_transmission() || exit.crossed))
+        s->f = b->eval(wo, wi_local, exit.chord, exit.crossed ? &exit.plies : nullptr);
     return s;
 }
 
@@ -150,7 +201,7 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
     const Vec3 n = dot(hit.geometric_normal, wo) >= 0 ? hit.geometric_normal : -hit.geometric_normal;
     sp.position = hit.position;
     sp.surface_normal = n;
-    sp.offset = ray_offset(hit.position, hit.radius);
+    sp.error = hit.error;
     if (hit.kind == SurfaceKind::Mesh) {
         const MeshDesc& mesh = scene_.meshes[hit.object];
         sp.frame = Frame::from_normal(n);
@@ -187,8 +238,7 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
     const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, data.yarn_twist[hit.curve], *data.maps, tube_hit,
                                               curve_key_base_[hit.object] + hit.curve, ply_trace_);
     if (!y.hit) {
-        out.pass_through = true;
-        out.continue_distance = y.exit_distance;
+        pass_through(hit, ray, frames, y.exit_distance, out);
         return out;
     }
     sp.position = y.position;
@@ -202,7 +252,14 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
     bp.fiber_shadow = y.fiber_shadowing;
     bp.plies_crossed = std::max(1, y.plies_crossed);
     bp.ply_index = y.ply_index;
+    bp.mean_fiber_shadow = data.maps->mean_fiber_shadowing();
     sp.bsdf = Bysdf(data.bysdf(m, hit.curve), bp);
+    if (std::get<Bysdf>(sp.bsdf).traces_plies()) {
+        sp.yarn = &m.yarn;
+        sp.ply = y.ply_index;
+        sp.section = ply_section(frames.evaluate(y.segment, y.t), m.yarn, data.yarn_twist[hit.curve], y.ply_index,
+                                 y.position);
+    }
     out.ply_index = y.ply_index;
     out.u_ply = y.u_ply;
     out.v_ply = y.v_ply;
@@ -236,8 +293,7 @@ bool SurfaceShader::shade_multiscale(const SurfaceHit& hit, const Ray& ray, cons
     out.h_samples = model.samples();
     if (model.empty() || context.u_pass < model.pass_fraction()) {
         // This share of the footprint lies between the plies: go on as a near-field miss does.
-        out.pass_through = true;
-        out.continue_distance = model.pass_distance();
+        pass_through(hit, ray, frames, model.pass_distance(), out);
         return true;
     }
     ShadingPoint& sp = out.point;
@@ -267,8 +323,8 @@ void SurfaceShader::shade_far(const SurfaceHit& hit, const Ray& ray, const Multi
     sp.frame = Frame::from_normal_tangent(normalize(wo - tangent * dot(wo, tangent)), tangent);
     const FarFieldBsdf far(table, data.bysdf(scene_.yarns[hit.object].material, hit.curve));
     if (context.u_pass < far.pass_fraction(sp.frame.to_local(wo))) {
-        out.pass_through = true;
-        out.continue_distance = tube_chord_length(frames, axis.segment, axis.t, hit.position, ray.direction);
+        pass_through(hit, ray, frames, tube_chord_length(frames, axis.segment, axis.t, hit.position, ray.direction),
+                     out);
         return;
     }
     // Light scatters at the tube entry: a sub-pixel yarn's depth does not show.
@@ -346,10 +402,13 @@ void SurfaceShader::shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, con
     sp.frame = Frame::from_normal_tangent(len > 1e-6f ? across / len : normal, t);
     sp.bsdf = FiberBcsdfRef{data.fiber.get()};
     const Vec4* cp = &scene_.yarns[hit.object].curves.control_points[hit.primitive];
-    const BSplineWeights w = bspline_basis(hit.u);
-    sp.cylinder_point = cp[0].xyz() * w.w[0] + cp[1].xyz() * w.w[1] + cp[2].xyz() * w.w[2] + cp[3].xyz() * w.w[3];
+    const Vec3 p[4] = {cp[0].xyz(), cp[1].xyz(), cp[2].xyz(), cp[3].xyz()};
+    sp.cylinder_point = bspline_point(p, hit.u);
     sp.cylinder_axis = t;
     sp.cylinder_radius = hit.radius;
+    const Vec3 d1 = bspline_tangent(p, hit.u), d2 = bspline_combine(p, bspline_basis_second_derivative(hit.u));
+    const float speed = length(d1);
+    sp.cylinder_curvature = speed > 0 ? length(cross(d1, d2)) / (speed * speed * speed) : 0.0f;
 }
 
 }  // namespace purl

@@ -22,6 +22,7 @@
 #include "scene/scene.h"
 #include "yarn/curve_frames.h"
 #include "yarn/fiber_maps.h"
+#include "yarn/ply_crossings.h"
 #include "yarn/ply_helix.h"
 
 namespace purl {
@@ -41,36 +42,45 @@ struct ShadingPoint {
     bool holdout = false;
     Vec3 position;        // where light scatters (on a ply, for implicit yarns)
 
-    // Surfaces: rays leave from `position` nudged off the surface along `surface_normal`.
+    // Surfaces: rays leave from `position`, moved off the surface along `surface_normal` by
+    // its float error `error` (math/ray_spawn.h).
     Vec3 surface_normal;
-    float offset = 0;
-    // Implicit yarns: rays leave through the tube wall, wherever they cross it.
+    float error = 0;
+    // Implicit yarns and explicit plies: rays leave through the tube wall, wherever they cross it.
     const CurveFrames* tube = nullptr;
     uint32_t segment = 0;
     float t = 0;
     float yarn_radius = 0;
-    // Explicit fibers: rays leave through the fiber as a cylinder (axis point, unit axis, m).
-    float cylinder_radius = 0;
+    // Implicit yarns with the traced ply crossing: the hit in the straight-yarn model
+    // (world axes, yarn radii) and its yarn, for the plies a leaving ray crosses.
+    const YarnDescription* yarn = nullptr;
+    PlySection section;
+    int ply = 0;
+    // Explicit fibers: rays leave through the fiber as a cylinder (axis point, unit axis, m),
+    // which parts from the bent fiber by up to curvature (1/m) x axial distance^2 / 2.
+    float cylinder_radius = 0, cylinder_curvature = 0;
     Vec3 cylinder_point, cylinder_axis;
 
     struct Exit {
         Vec3 origin;     // where a ray toward wi starts
         float chord = 0; // path inside the yarn, in yarn radii (0 on surfaces)
+        bool crossed = false;  // `plies` holds what the ray crosses (traced ply crossing)
+        PlyCrossings plies;
     };
     Exit leave(Vec3 wi_world) const;
 
     // `pdf_out`: models that get the pdf with f in one pass (the multi-scale mixture visits all
     // its components for either, the far-field table the same cell) store it there; the others
     // leave it as it was.
-    Vec3 eval(Vec3 wo_world, Vec3 wi_world, float chord, float* pdf_out = nullptr) const;
+    Vec3 eval(Vec3 wo_world, Vec3 wi_world, const Exit& exit, float* pdf_out = nullptr) const;
     float pdf(Vec3 wo_world, Vec3 wi_world) const;
     // The sample's f is final: for a transmission through a yarn, attenuated along `exit`.
     std::optional<BsdfSample> sample(Vec3 wo_world, float u_lobe, Vec2 u, Exit& exit) const;
 };
 
 struct SurfaceInteraction {
-    bool pass_through = false;  // the ray met no ply: continue it `continue_distance` further
-    float continue_distance = 0;
+    bool pass_through = false;  // the ray met no ply: it goes on, unchanged, from `continue_origin`
+    Vec3 continue_origin;       // just past where it leaves the yarn
     ShadingPoint point;
     // Camera hits on BYSDF yarns shaded with a MultiscaleHitContext (multiscale_hit): the mode
     // used and the h samples traced (1 for near, 0 for the tabulated far field).
@@ -120,15 +130,14 @@ private:
     void shade_far(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
                    const FarFieldTable& table, const CentrelineProjection& axis, SurfaceInteraction& out) const;
     void shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data, ShadingPoint& sp) const;
+    // A ray that meets no ply: on through the tube, out at `distance` from the hit.
+    static void pass_through(const SurfaceHit& hit, const Ray& ray, const CurveFrames& frames, float distance,
+                             SurfaceInteraction& out);
     static void recolor_bysdf(const BysdfParams& material, const std::vector<Vec3>& colors, YarnSetData& data);
     const SceneDesc& scene_;
     std::vector<YarnSetData> yarn_sets_;
     std::vector<uint32_t> curve_key_base_;
     PlyTraceOptions ply_trace_;  // render.ply_method
 };
-
-// Distance to move a new ray's origin off the surface it leaves: float precision of the
-// position plus a small fraction of the yarn radius (Embree's curve hits are less exact).
-float ray_offset(Vec3 position, float yarn_radius);
 
 }  // namespace purl

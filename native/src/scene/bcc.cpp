@@ -1,5 +1,6 @@
 #include "scene/bcc.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -241,6 +242,13 @@ YarnCurves load_bcc(const std::string& path, float radius) {
                                  "coordinates too large: converting them to B-spline control points overflows");
         curves.add(seg, file.closed[c] != 0, static_cast<int32_t>(c));
     }
+    // Every point the same: nothing to render at any radius (validate_curves would refuse it
+    // later, blaming no file place; found by fuzzing).
+    const std::vector<Vec4>& cp = curves.control_points;
+    const auto same_place = [&](const Vec4& p) { return p.x == cp[0].x && p.y == cp[0].y && p.z == cp[0].z; };
+    if (!cp.empty() && std::all_of(cp.begin(), cp.end(), same_place))
+        throw InputError(path, file.curve_count() == 1 ? "curve 0" : "every curve",
+                         "is collapsed to one point (all its points are equal): nothing to render");
     return curves;
 }
 

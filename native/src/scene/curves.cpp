@@ -4,26 +4,17 @@
 #include <cstdio>
 #include <limits>
 
+#include "math/number_text.h"
 #include "scene/input_error.h"
 
 namespace purl {
-namespace {
-
-// Six significant digits: std::to_string shows 1e-9 as 0.000000 and 1e30 as 31 digits.
-std::string short_number(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
-}
-
-}  // namespace
 
 void check_curve_color(Vec3 color, const std::string& source, const std::string& place) {
     for (int k = 0; k < 3; ++k)
         if (!(color[k] >= 0.0f && color[k] <= 1.0f))  // also false for NaN
             throw InputError(source, place, "colour must be linear RGB with every channel in [0, 1], got (" +
-                                                short_number(color.x) + ", " + short_number(color.y) + ", " +
-                                                short_number(color.z) + ")");
+                                                number_text(color.x) + ", " + number_text(color.y) + ", " +
+                                                number_text(color.z) + ")");
 }
 
 void validate_curves(const YarnCurves& curves, const std::string& source) {
@@ -61,8 +52,7 @@ void validate_curves(const YarnCurves& curves, const std::string& source) {
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
                 throw InputError(source, where, "position is not finite");
             if (!(p.w > 0.0f) || !std::isfinite(p.w))
-                throw InputError(source, where, "radius must be positive and finite, got " +
-                                                    std::to_string(p.w));
+                throw InputError(source, where, "radius must be positive and finite, got " + number_text(p.w));
             lo = min(lo, p.xyz());
             hi = max(hi, p.xyz());
             if (p.w > max_radius) {
@@ -77,11 +67,14 @@ void validate_curves(const YarnCurves& curves, const std::string& source) {
     if (nc > 0) {
         const double dx = double(hi.x) - lo.x, dy = double(hi.y) - lo.y, dz = double(hi.z) - lo.z;
         const double extent = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (extent == 0)  // not a radius problem: there is no curve to put it on
+            throw InputError(source, nc == 1 ? "curve 0" : "every curve",
+                             "is collapsed to one point (all its control points are equal): nothing to render");
         if (max_radius > extent)
             throw InputError(source, "curve " + std::to_string(max_radius_curve),
-                             "radius " + short_number(max_radius) +
+                             "radius " + number_text(max_radius) +
                                  " is larger than the whole yarn set (bounding-box diagonal " +
-                                 short_number(extent) + "); check the radius and its units");
+                                 number_text(extent) + "); check the radius and its units");
     }
 }
 

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
 #include "math/bspline.h"
+#include "math/ray_spawn.h"
 
 namespace purl {
 
@@ -23,11 +25,40 @@ bool count_memory(void* user, ssize_t bytes, bool /*post*/) {
                              std::to_string(static_cast<int>(rtcGetDeviceError(device))) + ")");
 }
 
+// The hit on a round curve segment put back on Embree's surface: the centre-line point at u
+// plus the radius there, along the hit's offset from it without its tangential part (Embree
+// solves (hit - P(u)) . T(u) = 0, |hit - P(u)| = r(u)). Its iteration stops within a
+// tolerance, and origin + t dir adds the rounding of t times the ray's length.
+Vec3 onto_curve(const Vec3* p, float u, float radius, Vec3 raw) {
+    const Vec3 centre = bspline_point(p, u), tangent = bspline_tangent(p, u);
+    const float tl2 = dot(tangent, tangent);
+    Vec3 radial = raw - centre;
+    if (tl2 > 0) radial -= tangent * (dot(radial, tangent) / tl2);
+    const float len = length(radial);
+    if (!(len > 0) || !std::isfinite(len)) return raw;  // on the axis (a degenerate ray): keep it
+    return centre + radial * (radius / len);
+}
+
 }  // namespace
 
+const char* EmbreeScene::requested_isa() {
+    const char* isa = std::getenv("PURL_EMBREE_ISA");
+    if (!isa || !*isa) return nullptr;
+    // Embree takes any other word for SSE2 without a warning: refuse it here.
+    for (const char* known : {"sse2", "sse4.2", "avx", "avx2", "avx512"})
+        if (std::string(isa) == known) return isa;
+    throw std::runtime_error(std::string("PURL_EMBREE_ISA=") + isa +
+                             ": not an instruction set Embree knows (sse2, sse4.2, avx, avx2, avx512)");
+}
+
 EmbreeScene::EmbreeScene(const SceneDesc& scene) : scene_(scene) {
-    device_ = rtcNewDevice("threads=0");  // build with TBB's threads, like the render
-    if (!device_) throw std::runtime_error("Embree: cannot create a device");
+    // Build with TBB's threads, like the render.
+    std::string config = "threads=0";
+    if (const char* isa = requested_isa()) config += std::string(",isa=") + isa;
+    device_ = rtcNewDevice(config.c_str());
+    if (!device_)
+        throw std::runtime_error("Embree: cannot create a device (config \"" + config +
+                                 "\"; PURL_EMBREE_ISA must name an instruction set this CPU and Embree build have)");
     std::atomic<long long> bytes{0};
     rtcSetDeviceMemoryMonitorFunction(device_, count_memory, &bytes);
     rtc_scene_ = rtcNewScene(device_);
@@ -113,7 +144,6 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit& hit) const {
 
     const GeometryRef& ref = geometries_[rh.hit.geomID];
     hit.t = rh.ray.tfar;
-    hit.position = ray.at(hit.t);
     hit.kind = ref.kind;
     hit.object = ref.object;
     hit.u = rh.hit.u;
@@ -136,10 +166,17 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit& hit) const {
         hit.tangent = tl > 0 ? tangent / tl : Vec3(0, 0, 1);
         const BSplineWeights w = bspline_basis(hit.u);
         hit.radius = cp[0].w * w.w[0] + cp[1].w * w.w[1] + cp[2].w * w.w[2] + cp[3].w * w.w[3];
+        hit.position = onto_curve(p, hit.u, hit.radius, ray.at(hit.t));
+        hit.error = curve_point_error(cp);
     } else {
         hit.primitive = rh.hit.primID;
         hit.curve = 0;
         hit.radius = 0.0f;
+        const MeshDesc& mesh = scene_.meshes[ref.object];
+        const uint32_t* tri = mesh.indices.data() + 3 * size_t(rh.hit.primID);
+        const Vec3 a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]], c = mesh.vertices[tri[2]];
+        hit.position = a * (1 - hit.u - hit.v) + b * hit.u + c * hit.v;
+        hit.error = triangle_point_error(a, b, c);
     }
     return true;
 }

@@ -15,7 +15,10 @@ enum class SurfaceKind : uint8_t { Yarn, Mesh };
 
 struct SurfaceHit {
     float t = 0.0f;
+    // On the surface as exactly as floats allow: rebuilt from the triangle's barycentrics, or
+    // put at the curve's radius from its centre-line at u, not the ray's origin + t dir.
     Vec3 position;
+    float error = 0.0f;     // bound on position's float error per coordinate, m (math/ray_spawn.h)
     Vec3 geometric_normal;  // unit, facing the side the ray came from is NOT guaranteed
     SurfaceKind kind = SurfaceKind::Mesh;
     uint32_t object = 0;    // index into SceneDesc::yarns or SceneDesc::meshes
@@ -29,6 +32,11 @@ struct SurfaceHit {
 
 class EmbreeScene {
 public:
+    // The instruction set Embree is asked for: $PURL_EMBREE_ISA (sse2, sse4.2, avx, avx2,
+    // avx512; anything else is an error), else its own choice of the best one this CPU has.
+    // scripts/test.sh runs the native suites once per ISA.
+    static const char* requested_isa();
+
     // `scene` must outlive this object: its curve and vertex buffers are shared.
     explicit EmbreeScene(const SceneDesc& scene);
     ~EmbreeScene();

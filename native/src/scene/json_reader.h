@@ -7,10 +7,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "math/number_text.h"
 #include "math/transform.h"
 #include "scene/input_error.h"
 
 namespace purl {
+
+// Parses JSON text: an InputError naming `source` and the line and column for invalid JSON,
+// and for a key given twice in one object (nlohmann would keep the last silently).
+nlohmann::json parse_json_text(const std::string& text, const std::string& source);
 
 class JsonObject {
 public:
@@ -29,10 +34,17 @@ public:
     // One of `choices`; upper/lower case is accepted as given in the list.
     std::string choice(const char* key, const std::string& fallback, const std::vector<std::string>& choices);
     Vec3 vec3(const char* key, Vec3 fallback);
-    void floats(const char* key, float* out, int count);  // exactly `count` numbers
-    Transform transform(const char* key);                  // 16 numbers, row-major
+    // Three numbers, each in [lo, hi] (colours: [0, 1]).
+    Vec3 vec3_in(const char* key, Vec3 fallback, float lo, float hi);
+    // A file name: a string without NUL characters (the system would cut the name there and
+    // open another file).
+    std::string path_string(const char* key);
+    void floats(const char* key, float* out, int count);     // exactly `count` finite numbers
+    void doubles(const char* key, double* out, int count);  // the same, unrounded
+    Point64 point(const char* key, Point64 fallback);       // a position: 3 numbers, kept in double
+    Transform64 transform(const char* key);                  // 16 numbers, row-major
     // The placement of an object: matrix_world, or position + look_at (+ up). Required.
-    Transform placement();
+    Transform64 placement();
     // A nested value, marked as read; the caller checks its type.
     const nlohmann::json& raw(const char* key);
     JsonObject object(const char* key);

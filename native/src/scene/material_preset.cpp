@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "scene/input_error.h"
+#include "scene/json_reader.h"
 
 #ifndef PURL_PRESET_DIR
 #define PURL_PRESET_DIR ""
@@ -38,8 +39,7 @@ json read_preset_json(const std::string& path, const std::string& file, const st
     if (!in) throw InputError(path, "", "cannot open file");
     std::stringstream text;
     text << in.rdbuf();
-    const json preset = json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
-    if (preset.is_discarded()) throw InputError(path, "", "not valid JSON");
+    const json preset = parse_json_text(text.str(), path);
     if (!preset.is_object() || !preset.contains("material") || !preset["material"].is_object())
         throw InputError(path, "", "a preset needs a \"material\" object");
     const json& material = preset["material"];
@@ -79,6 +79,8 @@ MaterialPreset load_material_preset(const json& material, const std::string& fil
         if (!material["preset_file"].is_string())
             throw InputError(file, place + ".preset_file", "must be a path (string)");
         const std::string given = material["preset_file"].get<std::string>();
+        if (given.find('\0') != std::string::npos)
+            throw InputError(file, place + ".preset_file", "contains a NUL character; a file name cannot");
         out.path = given.empty() || fs::path(given).is_absolute() || base_dir.empty()
                        ? given
                        : (fs::path(base_dir) / given).string();

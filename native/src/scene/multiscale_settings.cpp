@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "math/number_text.h"
 #include "scene/input_error.h"
 
 namespace purl {
@@ -54,8 +55,8 @@ void check_multiscale_settings(const MultiscaleSettings& s, const std::string& f
         const float v = *param_field(s, info);
         if (!(v >= info.min_value && v <= info.max_value))
             throw InputError(file, place + "." + info.name,
-                             "value " + std::to_string(v) + " outside [" + std::to_string(info.min_value) + ", " +
-                                 std::to_string(info.max_value) + "]");
+                             "value " + number_text(v) + " outside [" + number_text(info.min_value) + ", " +
+                                 number_text(info.max_value) + "]");
     }
     if (s.max_h_samples != std::floor(s.max_h_samples))
         throw InputError(file, place + ".multiscale_max_h_samples", "must be a whole number");

@@ -40,6 +40,9 @@ enum class YarnModel { Bysdf, Ply, Fiber };
 
 struct RenderSettings {
     int spp = 64;
+    // Renders samples first_sample .. first_sample + spp - 1 of every pixel, so renders of
+    // consecutive ranges average to one render of them all (progressive passes).
+    int first_sample = 0;
     uint64_t seed = 0;
     int max_depth = 8;
     int threads = 0;      // 0: all cores
@@ -53,6 +56,11 @@ struct RenderSettings {
     // Benchmark baseline (bench/): true traces camera rays only and shades every first hit a
     // constant grey, to measure traversal alone (no implicit plies, lights or bounces).
     bool trace_only = false;
+    // Denoise the image with Open Image Denoise after the last sample (render/denoise.h).
+    bool denoise = false;
+    // Cycles' Filter Glossy: after a bounce of low pdf, glossy lobes are roughened by this much
+    // (render/path_regularization.h); 0 turns it off.
+    float filter_glossy = 1.0f;
 };
 
 enum class LightType { Point, Spot, Sun, Area };
@@ -106,21 +114,34 @@ struct MaterialDesc {
 
 struct YarnSetDesc {
     std::string name;
-    YarnCurves curves;  // world space
+    YarnCurves curves;  // world space, relative to SceneDesc::origin
     MaterialDesc material;
     int id = 0;
 };
 
 struct MeshDesc {
     std::string name;
-    std::vector<Vec3> vertices;      // world space
+    std::vector<Vec3> vertices;      // world space, relative to SceneDesc::origin
     std::vector<uint32_t> indices;   // 3 per triangle
     Vec3 color{0.8f};
     bool holdout = false;
 };
 
+// A file the scene reader opened or named besides the scene file itself (purl deps):
+// what a render-farm worker needs beside the scene.
+struct SceneFile {
+    std::string role;   // the key naming it: "bcc", "obj", "texture", "preset_file", "preset" (a named preset)
+    std::string place;  // where the scene names it, e.g. "yarns[0].bcc"
+    std::string path;   // as resolved against the scene's folder (or found on the preset path)
+};
+
 struct SceneDesc {
     std::string source;  // file name or "<python>", for messages
+    // World position of this description's zero: every position below is relative to it. The
+    // scene reader picks it near the cloth and subtracts it in double (scene/scene_json.cpp), so
+    // a scene far from the world origin keeps its precision as floats.
+    Point64 origin{0, 0, 0};
+    std::vector<SceneFile> files;  // in the order the scene names them
     CameraDesc camera;
     FilmDesc film;
     RenderSettings render;

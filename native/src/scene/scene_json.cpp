@@ -3,8 +3,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
+#include "bsdf/artist_params.h"
 #include "bsdf/params.h"
 #include "scene/bcc.h"
 #include "scene/json_reader.h"
@@ -26,8 +28,34 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
     return (fs::path(base_dir) / path).string();
 }
 
-void read_camera(JsonObject o, CameraDesc& cam) {
-    cam.to_world = o.placement();
+// Positions are composed in double and made relative to the scene's origin before they become
+// floats: a float is 1 mm apart at 1e4 m, two yarn radii. The first point placed becomes the
+// origin (SceneDesc::origin): the first yarn point, else the first mesh vertex, else the camera
+// (placed last), so the cloth keeps the precision it would have at the world origin.
+struct LocalFrame {
+    std::optional<Point64> origin;
+
+    Vec3 local(const Point64& world) {
+        if (!origin) origin = world;
+        const Point64& o = *origin;
+        return {float(world[0] - o[0]), float(world[1] - o[1]), float(world[2] - o[2])};
+    }
+    Transform local(const Transform64& placement) {
+        if (!origin) origin = placement.translation();
+        return placement.relative_to(*origin);
+    }
+};
+
+// The path `key` names, resolved, and noted in `files` under that key (what `purl deps` lists).
+std::string named_file(JsonObject& o, const char* key, const std::string& base_dir, std::vector<SceneFile>& files) {
+    const std::string path = resolve(base_dir, o.path_string(key));
+    if (!path.empty()) files.push_back({key, o.child_path(key), path});
+    return path;
+}
+
+// Returns the camera's placement, which becomes local once the scene's origin is known.
+Transform64 read_camera(JsonObject o, CameraDesc& cam) {
+    const Transform64 placement = o.placement();
     cam.lens_mm = o.number("lens", cam.lens_mm, 0.01f, 1e5f);
     cam.sensor_width_mm = o.number("sensor_width", cam.sensor_width_mm, 0.01f, 1e4f);
     cam.sensor_height_mm = o.number("sensor_height", cam.sensor_height_mm, 0.01f, 1e4f);
@@ -40,6 +68,7 @@ void read_camera(JsonObject o, CameraDesc& cam) {
     cam.clip_end = o.number("clip_end", cam.clip_end, 0.0f, kHuge);
     if (!(cam.clip_end > cam.clip_start)) o.fail("clip_end", "must be greater than clip_start");
     o.finish();
+    return placement;
 }
 
 void read_film(JsonObject o, FilmDesc& film) {
@@ -73,26 +102,29 @@ void read_render(JsonObject o, RenderSettings& r) {
     if (o.has("explicit")) read_explicit_options(o.object("explicit"), r.explicit_options);
     r.trace_only = o.choice("integrator", "path", {"path", "trace"}) == "trace";
     r.ply_method = parse_ply_method(o.choice("ply_method", "elliptical", ply_method_names()), o.file());
+    r.denoise = o.boolean("denoise", false);
+    r.filter_glossy = o.number("filter_glossy", r.filter_glossy, 0.0f, 10.0f);
     o.finish();
 }
 
-void read_world(JsonObject o, WorldDesc& w, const std::string& base_dir) {
+void read_world(JsonObject o, WorldDesc& w, const std::string& base_dir, std::vector<SceneFile>& files) {
     w.color = o.vec3("color", w.color);
     w.strength = o.number("strength", 1.0f, 0.0f, kHuge);
-    w.texture = resolve(base_dir, o.string("texture", ""));
+    w.texture = named_file(o, "texture", base_dir, files);
     w.rotation_z = o.number("rotation_z", 0.0f, -kHuge, kHuge);
     if (w.color.x < 0 || w.color.y < 0 || w.color.z < 0) o.fail("color", "must not be negative");
     o.finish();
 }
 
-LightDesc read_light(JsonObject o) {
+// `placement` becomes the light's to_world once the scene's origin is known.
+LightDesc read_light(JsonObject o, Transform64& placement) {
     LightDesc l;
     const std::string type = o.choice("type", "", {"point", "spot", "sun", "area"});
     l.type = type == "point" ? LightType::Point
              : type == "spot" ? LightType::Spot
              : type == "sun"  ? LightType::Sun
                               : LightType::Area;
-    l.to_world = o.placement();
+    placement = o.placement();
     l.color = o.vec3("color", Vec3(1.0f));
     if (l.color.x < 0 || l.color.y < 0 || l.color.z < 0) o.fail("color", "must not be negative");
     if (l.type == LightType::Sun) {
@@ -134,8 +166,8 @@ void read_params(JsonObject& o, const std::vector<ParamInfo>& table, Params& par
             for (int c = 0; c < info.components; ++c)
                 if (field[c] < info.min_value || field[c] > info.max_value)
                     o.fail(info.name, "component " + std::to_string(c) + " must be in [" +
-                                          std::to_string(info.min_value) + ", " +
-                                          std::to_string(info.max_value) + "]");
+                                          number_text(info.min_value) + ", " +
+                                          number_text(info.max_value) + "]");
         }
     }
 }
@@ -177,6 +209,10 @@ MaterialDesc read_material(JsonObject o) {
             f.finish();
         }
         read_params(o, bysdf_param_table(), m.bysdf);
+        ArtistControls artist;  // "color", "sheen", ... on top of the physics (bsdf/artist_params.h)
+        artist.has_color = o.has("color");
+        read_params(o, artist_param_table(), artist);
+        m.bysdf = apply_artist_controls(m.bysdf, artist);
         if (o.has("yarn")) {
             JsonObject y = o.object("yarn");
             if (y.has("preset")) m.yarn = yarn_preset(y.string("preset", ""));
@@ -191,19 +227,21 @@ MaterialDesc read_material(JsonObject o) {
 
 // A yarn set's "material", with "preset"/"preset_file" resolved (scene/material_preset.h):
 // the preset is checked on its own first, so its mistakes are reported against its own file.
-MaterialDesc read_material_entry(JsonObject& yarn_set, const std::string& base_dir) {
+MaterialDesc read_material_entry(JsonObject& yarn_set, const std::string& base_dir, std::vector<SceneFile>& files) {
     JsonObject given = yarn_set.object("material");
     const json& value = yarn_set.raw("material");
     if (!value.is_object() || !material_uses_preset(value)) return read_material(given);
     const MaterialPreset preset = load_material_preset(value, given.file(), given.path(), base_dir);
+    const std::string key = value.contains("preset_file") ? "preset_file" : "preset";
+    files.push_back({key, given.path() + "." + key, preset.path});
     read_material(JsonObject(preset.material, "material", preset.path));
     const json merged = merge_material(preset.material, value);
     return read_material(JsonObject(merged, given.path(), given.file()));
 }
 
-void transform_curves(YarnCurves& curves, const Transform& t) {
-    const float scale = t.uniform_scale();
-    for (Vec4& p : curves.control_points) p = Vec4(t.point(p.xyz()), p.w * scale);
+void place_curves(YarnCurves& curves, const Transform64& t, LocalFrame& frame) {
+    const float scale = float(t.uniform_scale());
+    for (Vec4& p : curves.control_points) p = Vec4(frame.local(t.point(to_point64(p.xyz()))), p.w * scale);
 }
 
 // "curve_colors": [[r, g, b], ...], one linear RGB colour per curve of the set.
@@ -225,7 +263,8 @@ void read_curve_colors(JsonObject& o, YarnCurves& curves) {
     }
 }
 
-YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays) {
+YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays,
+                          std::vector<SceneFile>& files, LocalFrame& frame) {
     YarnSetDesc y;
     y.name = o.string("name", o.path());
     y.id = o.integer("id", 0, 0, 1 << 20);
@@ -233,7 +272,7 @@ YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const Exter
     if (sources != 1) o.fail(nullptr, "needs exactly one of bcc, arrays, generate");
     if (o.has("bcc")) {
         const float radius = o.required_number("radius", 1e-9f, kHuge);
-        y.curves = load_bcc(resolve(base_dir, o.string("bcc", "")), radius);
+        y.curves = load_bcc(named_file(o, "bcc", base_dir, files), radius);
     } else if (o.has("arrays")) {
         const std::string name = o.string("arrays", "");
         if (!arrays || !arrays->yarns) o.fail("arrays", "names in-memory arrays, but none were given");
@@ -255,21 +294,23 @@ YarnSetDesc read_yarn_set(JsonObject o, const std::string& base_dir, const Exter
         g.finish();
         y.curves = generate_swatch(kind, options);
     }
-    if (o.has("matrix_world")) transform_curves(y.curves, o.transform("matrix_world"));
+    place_curves(y.curves, o.has("matrix_world") ? o.transform("matrix_world") : Transform64{}, frame);
     if (o.has("curve_colors")) read_curve_colors(o, y.curves);
-    if (o.has("material")) y.material = read_material_entry(o, base_dir);
+    if (o.has("material")) y.material = read_material_entry(o, base_dir, files);
     o.finish();
     validate_curves(y.curves, o.file() + ": " + o.path());
     return y;
 }
 
-MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays) {
+MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArrays* arrays,
+                   std::vector<SceneFile>& files, LocalFrame& frame) {
     MeshDesc m;
+    std::vector<Point64> given;  // vertices written in the scene, kept in double
     m.name = o.string("name", o.path());
     const int sources = int(o.has("obj")) + int(o.has("arrays")) + int(o.has("vertices"));
     if (sources != 1) o.fail(nullptr, "needs exactly one of obj, arrays, vertices + triangles");
     if (o.has("obj")) {
-        read_obj(resolve(base_dir, o.string("obj", "")), m);
+        read_obj(named_file(o, "obj", base_dir, files), m);
     } else if (o.has("arrays")) {
         const std::string name = o.string("arrays", "");
         if (!arrays || !arrays->meshes) o.fail("arrays", "names in-memory arrays, but none were given");
@@ -279,8 +320,9 @@ MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArra
         const json& t = o.raw("triangles");
         if (!v.is_array() || !t.is_array()) o.fail("vertices", "vertices and triangles must be arrays");
         try {
-            for (const json& p : v) m.vertices.emplace_back(p.at(0).get<float>(), p.at(1).get<float>(),
-                                                             p.at(2).get<float>());
+            for (const json& p : v)
+                given.push_back({p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()});
+            m.vertices.resize(given.size());
             for (const json& tri : t)
                 for (int k = 0; k < 3; ++k) m.indices.push_back(tri.at(k).get<uint32_t>());
         } catch (const json::exception&) {
@@ -289,14 +331,13 @@ MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArra
     }
     for (uint32_t index : m.indices)
         if (index >= m.vertices.size()) o.fail(nullptr, "triangle index out of range");
-    if (o.has("matrix_world")) {
-        const Transform t = o.transform("matrix_world");
-        for (Vec3& p : m.vertices) p = t.point(p);
-    }
+    const Transform64 t = o.has("matrix_world") ? o.transform("matrix_world") : Transform64{};
+    for (size_t i = 0; i < m.vertices.size(); ++i)
+        m.vertices[i] = frame.local(t.point(given.empty() ? to_point64(m.vertices[i]) : given[i]));
     // After matrix_world: finite numbers times a large scale can overflow to infinity.
     for (const Vec3& p : m.vertices)
         if (!is_finite(p)) o.fail(nullptr, "vertex position is not finite (after matrix_world)");
-    m.color = o.vec3("color", m.color);
+    m.color = o.vec3_in("color", m.color, 0, 1);  // albedo: a negative channel made every sample invalid
     m.holdout = o.boolean("holdout", false);
     o.finish();
     return m;
@@ -325,59 +366,39 @@ PlyCrossSection parse_ply_method(const std::string& name, const std::string& sou
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,
                            const std::string& base_dir, const ExternalArrays* arrays) {
-    // nlohmann counts bytes from 1; report the line and column a person can find.
-    const auto place_of = [&](size_t byte) {
-        const size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
-        size_t line = 1, column = 1;
-        for (size_t i = 0; i < end; ++i) {
-            if (text[i] == '\n') { ++line; column = 1; } else { ++column; }
-        }
-        return "line " + std::to_string(line) + ", column " + std::to_string(column);
-    };
-    json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        const std::string what = e.what();
-        const size_t detail = what.find("syntax error");
-        throw InputError(source, place_of(e.byte),
-                         "not valid JSON" + (detail == std::string::npos ? "" : " (" + what.substr(detail) + ")"));
-    } catch (const json::exception& e) {
-        // A number beyond the double range ("1e400") is out_of_range 406, which carries no
-        // byte position; its message quotes the number, so the place is where that first occurs.
-        const std::string what = e.what();
-        const size_t open = what.find('\''), close = what.rfind('\'');
-        const size_t at = open < close ? text.find(what.substr(open + 1, close - open - 1)) : std::string::npos;
-        const size_t detail = what.find("] ");
-        throw InputError(source, at == std::string::npos ? "" : place_of(at + 1),
-                         "not valid JSON (" + (detail == std::string::npos ? what : what.substr(detail + 2)) + ")");
-    }
+    const json root = parse_json_text(text, source);
     SceneDesc scene;
     scene.source = source;
     JsonObject o(root, "", source);
     o.integer("version", 1, 1, 1);
-    read_camera(o.object("camera"), scene.camera);
+    LocalFrame frame;
+    const Transform64 camera = read_camera(o.object("camera"), scene.camera);
     if (o.has("film")) read_film(o.object("film"), scene.film);
     if (o.has("render")) read_render(o.object("render"), scene.render);
-    if (o.has("world")) read_world(o.object("world"), scene.world, base_dir);
-    for (JsonObject& l : o.array_of_objects("lights")) scene.lights.push_back(read_light(l));
+    if (o.has("world")) read_world(o.object("world"), scene.world, base_dir, scene.files);
+    std::vector<Transform64> lights;
+    for (JsonObject& l : o.array_of_objects("lights")) scene.lights.push_back(read_light(l, lights.emplace_back()));
     for (JsonObject& y : o.array_of_objects("yarns"))
-        scene.yarns.push_back(read_yarn_set(y, base_dir, arrays));
+        scene.yarns.push_back(read_yarn_set(y, base_dir, arrays, scene.files, frame));
     for (JsonObject& m : o.array_of_objects("meshes"))
-        scene.meshes.push_back(read_mesh(m, base_dir, arrays));
+        scene.meshes.push_back(read_mesh(m, base_dir, arrays, scene.files, frame));
     o.finish();
+    scene.camera.to_world = frame.local(camera);
+    for (size_t i = 0; i < lights.size(); ++i) scene.lights[i].to_world = frame.local(lights[i]);
+    scene.origin = *frame.origin;
     if (scene.yarns.empty() && scene.meshes.empty())
         throw InputError(source, "", "the scene has no yarns and no meshes");
     return scene;
 }
 
 SceneDesc parse_view_text(const std::string& text, const std::string& source) {
-    const json root = json::parse(text, nullptr, false);
-    if (root.is_discarded() || !root.is_object()) throw InputError(source, "", "not a valid JSON object");
+    const json root = parse_json_text(text, source);
     SceneDesc scene;
     scene.source = source;
     JsonObject o(root, "", source);
-    read_camera(o.object("camera"), scene.camera);
+    LocalFrame frame;
+    scene.camera.to_world = frame.local(read_camera(o.object("camera"), scene.camera));
+    scene.origin = *frame.origin;
     if (o.has("film")) read_film(o.object("film"), scene.film);
     return scene;
 }

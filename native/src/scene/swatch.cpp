@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "math/number_text.h"
 #include "math/spline_convert.h"
 #include "scene/input_error.h"
 
@@ -144,15 +145,15 @@ float default_swatch_spacing(SwatchKind kind, float yarn_radius) {
 YarnCurves generate_swatch(SwatchKind kind, const SwatchOptions& opt) {
     const double radius = opt.yarn_radius;
     if (!(radius > 0) || !std::isfinite(radius) || radius > 1.0)
-        throw InputError("swatch", "yarn_radius", "yarn radius must be in (0, 1] m, got " + std::to_string(radius));
+        throw InputError("swatch", "yarn_radius", "yarn radius must be in (0, 1] m, got " + number_text(radius));
     const double minimum = default_swatch_spacing(kind, opt.yarn_radius);
     double spacing = opt.spacing;
     if (spacing == 0) spacing = minimum;
     if (!std::isfinite(spacing) || spacing < minimum * (1 - 1e-6) || spacing > 1000 * minimum)
         throw InputError("swatch", "spacing",
-                         "spacing " + std::to_string(opt.spacing) + " m is outside [" + std::to_string(minimum) +
-                             ", " + std::to_string(1000 * minimum) + "] m for yarn radius " +
-                             std::to_string(radius) + " m (tighter yarns would intersect); use 0 for the default");
+                         "spacing " + number_text(opt.spacing) + " m is outside [" + number_text(minimum) +
+                             ", " + number_text(1000 * minimum) + "] m for yarn radius " +
+                             number_text(radius) + " m (tighter yarns would intersect); use 0 for the default");
     return kind == SwatchKind::Knit ? make_knit(opt, radius, spacing) : make_weave(kind, opt, radius, spacing);
 }
 

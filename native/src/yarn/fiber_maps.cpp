@@ -89,6 +89,7 @@ FiberMaps::FiberMaps(const YarnDescription& d) {
         }
     }
     fiber_.resize(raw.size());
+    double g_sum = 0;
     for (size_t i = 0; i < raw.size(); ++i) {
         RawSample s = raw[i];
         if (!s.hit) {  // the ray crossed the whole ply between fibers: as deep as it gets
@@ -96,11 +97,14 @@ FiberMaps::FiberMaps(const YarnDescription& d) {
             s.occlusion = max_occlusion;
         }
         const float g = max_occlusion > 0 ? 1 - s.occlusion / max_occlusion : 1.0f;
+        g_sum += g;
         fiber_[i] = {static_cast<int16_t>(std::lround(clamp(s.normal_angle, -kPi, kPi) * (32767.0f / kPi))),
                      static_cast<uint16_t>(std::lround(s.fiber_phase * (65536.0f / (2 * kPi))) & 0xffff),
                      static_cast<uint16_t>(std::lround(clamp(s.fiber_distance, 0.0f, 1.99f) * 32768.0f)),
                      to_unit16(g)};
     }
+
+    mean_fiber_shadowing_ = raw.empty() ? 1.0f : float(g_sum / double(raw.size()));
 
     // G_p: the plies alone, probed from the yarn surface inward.
     const Circles2D plies = yarn_plies(d);

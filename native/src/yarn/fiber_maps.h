@@ -47,6 +47,8 @@ public:
 
     // G_p at `azimuth` (rad) around the yarn, measured from ply 0's centre.
     float ply_shadowing(float azimuth) const;
+    // G_f averaged over the ply's circumference and all variants (a ply seen as a whole).
+    float mean_fiber_shadowing() const { return mean_fiber_shadowing_; }
 
     int variants() const { return variants_; }
     int resolution() const { return resolution_; }
@@ -63,6 +65,7 @@ private:
     FiberSample sample_pair(int a, int b, float angle, float w) const;
 
     int variants_ = 0, resolution_ = 0;
+    float mean_fiber_shadowing_ = 1;
     std::vector<Packed> fiber_;      // variants_ x resolution_
     std::vector<uint16_t> ply_;      // resolution_
 };

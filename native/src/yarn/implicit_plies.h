@@ -1,25 +1,25 @@
 // Implicit plies (Khattar et al. 2024, section 3.3): given a ray that entered the yarn tube,
 // find the ply it meets, without any ply geometry in the scene. Plies are the helices of
-// ply_helix.h; docs/implicit-geometry.md has the algorithm and the measured accuracy.
+// ply_helix.h; docs/implicit-geometry.md has the algorithm and the measured accuracy. The
+// search's parts are in yarn/plies/, one file per method:
 //
-// Elliptical cross-section (default): for every ply, where its centre-line crosses a plane
+// elliptical (default, plies/exact*): for every ply, where its centre-line crosses a plane
 // through the ray. The plane holds the ray and the direction perpendicular to both the ray and
 // the ply's own tangent, so the ply's cut in it is an ellipse centred on the crossing, and the
-// crossings are the centre-line's closest approaches to the ray. One local model of the yarn
-// per query (its centre-line and frame over the stretch the ray crosses, interpolated between a
+// crossings are the centre-line's closest approaches to the ray. One model of the yarn per
+// query (its centre-line and frame over the stretch the ray crosses, interpolated between a
 // few exact frames and expressed in the ray's coordinates) gives every ply's crossings, miss
 // distances and entries with a sine-free per-ply loop; only the winning ply's entry (and any
 // crossing the model cannot decide) is refined on the exact curve, so the result is that of
 // exact Newton steps. A crossing within the ply radius is a ply the ray crosses (N_i).
 //
-// local: the same crossings on the yarn straightened to second order at the hit (centre-line
-// c + T s + kappa s^2 / 2, frame turned to first order), so every ply is an analytic helix and
-// the query needs no curve evaluation: exact on straight yarns, approximate on bends; 30-64 %
-// cheaper than elliptical on a straight yarn. Multi-scale's virtual rays use it (trace_plies_local).
+// local (plies/local*): the same crossings on the yarn straightened to second order at the hit
+// (centre-line c + T s + kappa s^2 / 2, frame turned to first order), so every ply is an
+// analytic helix and the query needs no curve evaluation: exact on straight yarns, approximate
+// on bends. Multi-scale's virtual rays use it around the camera ray's cross-section.
 //
-// elliptical_yarn_plane: the paper's plane taken literally (one plane for all plies, oriented
-// by the yarn's tangent); it loses plies at oblique views, kept for comparison. Circular (Zhu
-// et al. 2023, the prototype): plies frozen in the perpendicular cross-section at the hit.
+// circular (Zhu et al. 2023, the prototype; plies/circular): plies frozen in the perpendicular
+// cross-section at the hit. For comparison.
 #pragma once
 #include <cstdint>
 
@@ -31,19 +31,18 @@
 namespace purl {
 
 enum class PlyCrossSection {
-    elliptical,             // plane through the ray, oriented by each ply's tangent (default)
-    elliptical_yarn_plane,  // plane through the ray, oriented by the yarn's tangent (the paper, literally)
-    circular,               // perpendicular cross-section at the hit (Zhu et al. 2023; comparison only)
-    local,                  // as elliptical, on the yarn straightened to second order at the hit (fast)
+    elliptical,  // plane through the ray, oriented by each ply's tangent (default)
+    circular,    // perpendicular cross-section at the hit (Zhu et al. 2023; comparison only)
+    local,       // as elliptical, on the yarn straightened to second order at the hit (fast)
 };
 
 struct PlyTraceOptions {
     PlyCrossSection cross_section = PlyCrossSection::elliptical;
-    int max_iterations = 12;  // Newton steps per crossing (on the local model) before the fallback
+    int max_iterations = 12;  // Newton steps per crossing (on the exact method's model) before the fallback
     float tolerance = 1e-4f;  // yarn radii: a ply centre moving less than this has converged
     int refinements = 5;      // closest-point corrections of each candidate ply hit
-    // The local model of the yarn over the ray's stretch is built from exact frames at most
-    // model_turn radians of ply turn and model_length yarn radii apart.
+    // The exact method's model of the yarn over the ray's stretch is built from exact frames at
+    // most model_turn radians of ply turn and model_length yarn radii apart.
     float model_turn = 1.5f;
     float model_length = 2.0f;
     // Yarn radii the model may be off by: a crossing whose model miss distance is within this
@@ -63,6 +62,18 @@ struct YarnTubeHit {
     float t = 0;
 };
 
+// One ply search: a ray that entered a yarn's tube, and the yarn.
+struct PlyQuery {
+    const CurveFrames& frames;  // the yarn's centre-line and its frames
+    const YarnDescription& yarn;
+    const YarnTwist& twist;     // yarn_twist(frames, yarn), kept per curve by the renderer
+    const YarnTubeHit& ray;     // the ray and where it entered the tube
+    // The local method models the yarn around this cross-section when given (a centre-line
+    // projection near the entry already at hand, e.g. a neighbouring parallel ray's: no curve
+    // evaluation at all); otherwise around the entry's own projection. The others ignore it.
+    const CentrelineProjection* around = nullptr;
+};
+
 struct PlyHit {
     bool hit = false;       // false: pass-through, the ray crosses the yarn between plies
     int ply = -1;           // 0 .. N-1
@@ -80,23 +91,17 @@ struct PlyHit {
     float arrangement_azimuth = 0;  // rad in [0, 2 pi): u_yarn relative to ply 0 (G_p map coordinate)
     uint32_t segment = 0;   // centre-line parameter of the ply point's cross-section
     float t = 0;
-    int iterations = 0;     // exact curve evaluations spent (model frames, refinements)
-    int max_ply_iterations = 0;  // most exact curve evaluations one ply's entry refinement needed
-    bool converged = true;  // false when a ply fell back to the circular cross-section
+};
+
+// What one search spent, for tests and benchmarks (the answer does not depend on it).
+struct PlySearchStats {
+    int evaluations = 0;          // exact curve evaluations (model frames, refinements)
+    int max_ply_evaluations = 0;  // most exact curve evaluations one ply's entry refinement needed
+    bool converged = true;        // false when a ply fell back to the circular cross-section
 };
 
 // Never returns NaN: degenerate input (a ray along the yarn, a hit off the tube) gives a
 // pass-through with a finite exit distance.
-PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTubeHit& hit,
-                   const PlyTraceOptions& options = {});
-// The same with the curve's twist rates already at hand (yarn_twist(frames, d)).
-PlyHit trace_plies(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
-                   const YarnTubeHit& hit, const PlyTraceOptions& options = {});
-// The local method with the yarn modelled around a known cross-section `around` (a centre-line
-// projection near the hit, e.g. of a neighbouring parallel ray's entry): no curve evaluation at
-// all. Multi-scale's virtual rays share the camera ray's projection this way.
-PlyHit trace_plies_local(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
-                         const YarnTubeHit& hit, const CentrelineProjection& around,
-                         const PlyTraceOptions& options = {});
+PlyHit trace_plies(const PlyQuery& query, const PlyTraceOptions& options = {}, PlySearchStats* stats = nullptr);
 
 }  // namespace purl

@@ -108,7 +108,7 @@ double MethodStats::percentile(std::vector<float> v, double p) const {
 }
 
 PlyHit explicit_ply_answer(const CurveFrames& frames, const ExplicitPlies& plies, int ply_count,
-                           const YarnTubeHit& hit) {
+                           const YarnTubeHit& hit, PlySearchStats* stats) {
     const float radius = frames.reference_radius();
     // Start a hair before the entry, so that a ply touching the tube there is not missed.
     const float back = 1e-3f * radius;
@@ -124,9 +124,11 @@ PlyHit explicit_ply_answer(const CurveFrames& frames, const ExplicitPlies& plies
     };
     const ExplicitHit e = plies.intersect_plies(origin, hit.direction, 0, exit);
     PlyHit h;
-    h.converged = e.resolved;
+    PlySearchStats spent;
+    spent.converged = e.resolved;
+    spent.evaluations = e.steps;
+    if (stats) *stats = spent;
     h.exit_distance = exit - back;
-    h.iterations = e.steps;
     if (!e.hit) return h;
     h.hit = true;
     h.ply = e.ply;
@@ -139,15 +141,16 @@ PlyHit explicit_ply_answer(const CurveFrames& frames, const ExplicitPlies& plies
         h.plies_crossed += crossing.hit;
         other_passage = other_passage || (crossing.hit && elsewhere(crossing));
     }
-    h.converged = h.converged && !other_passage;
+    if (stats) stats->converged = spent.converged && !other_passage;
     return h;
 }
 
-void compare_with_explicit(MethodStats& m, const PlyHit& h, const PlyHit& reference, bool count_crossings) {
+void compare_with_explicit(MethodStats& m, const PlyHit& h, const PlySearchStats& spent, const PlyHit& reference,
+                           bool count_crossings) {
     ++m.rays;
     if (!finite_hit(h)) ++m.non_finite;
-    if (!h.converged) ++m.unconverged;
-    m.iterations.push_back(h.max_ply_iterations);
+    if (!spent.converged) ++m.unconverged;
+    m.iterations.push_back(spent.max_ply_evaluations);
     if (h.hit == reference.hit) ++m.agree;
     if (h.hit && !reference.hit) ++m.false_hits;
     if (!h.hit && reference.hit) ++m.false_misses;
@@ -167,6 +170,7 @@ void compare_with_explicit(MethodStats& m, const PlyHit& h, const PlyHit& refere
 ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& elliptical_options) {
     const Setup setup(c);
     const CurveFrames& frames = setup.frames;
+    const YarnTwist twist = yarn_twist(frames, c.description);
     const uint32_t segments = frames.segment_count();
     const float psi = c.view_angle * kPi / 180.0f;
     PlyTraceOptions circular = elliptical_options;
@@ -205,10 +209,13 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
             for (int p = 0; p < c.description.plies(); ++p)
                 reference.plies_crossed += setup.plies.intersect_ply(p, origin, direction, entry, r.exit + 1e-3f).hit;
         }
-        compare_with_explicit(result.elliptical, trace_plies(frames, c.description, r.entry, elliptical), reference,
-                              count_crossings);
-        compare_with_explicit(result.circular, trace_plies(frames, c.description, r.entry, circular), reference,
-                              count_crossings);
+        const auto compare = [&](MethodStats& m, const PlyTraceOptions& options) {
+            PlySearchStats spent;
+            const PlyHit h = trace_plies({frames, c.description, twist, r.entry}, options, &spent);
+            compare_with_explicit(m, h, spent, reference, count_crossings);
+        };
+        compare(result.elliptical, elliptical);
+        compare(result.circular, circular);
     }
     return result;
 }
@@ -216,6 +223,7 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
 ValidationImage render_validation_image(const ValidationCase& c, int width, int height) {
     const Setup setup(c);
     const CurveFrames& frames = setup.frames;
+    const YarnTwist twist = yarn_twist(frames, c.description);
     const float psi = c.view_angle * kPi / 180.0f;
     // Look at the middle of the yarn (straight) or at the loop's point on +x (loops).
     const uint32_t segment = c.curvature_radius > 0 ? 0 : frames.segment_count() / 2;
@@ -263,13 +271,13 @@ ValidationImage render_validation_image(const ValidationCase& c, int width, int 
                 img.explicit_tangent[i] = r.reference.tangent;
                 img.explicit_normal[i] = r.reference.normal;
             }
-            const PlyHit e = trace_plies(frames, c.description, r.entry);
+            const PlyHit e = trace_plies({frames, c.description, twist, r.entry});
             if (e.hit) {
                 img.elliptical_hit[i] = 1;
                 img.elliptical_tangent[i] = e.tangent;
                 img.elliptical_normal[i] = e.normal;
             }
-            const PlyHit ci = trace_plies(frames, c.description, r.entry, circular);
+            const PlyHit ci = trace_plies({frames, c.description, twist, r.entry}, circular);
             if (ci.hit) {
                 img.circular_hit[i] = 1;
                 img.circular_tangent[i] = ci.tangent;

@@ -56,7 +56,7 @@ struct ValidationResult {
     MethodStats elliptical, circular;
 };
 
-// `elliptical_options` configures the method reported as `elliptical` (any cross-section kind);
+// `elliptical_options` configures the method reported as `elliptical` (any method);
 // `circular` always uses the circular cross-section.
 ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& elliptical_options = {});
 
@@ -65,13 +65,14 @@ ValidationResult validate_plies(const ValidationCase& c, const PlyTraceOptions& 
 // is another query), the first ply it enters, N_i by one trace per ply. `converged` is false
 // when there is nothing to compare with: the explicit trace ran out of steps, or a ply it
 // meets lies farther along the yarn than this passage reaches (another passage of the same
-// yarn, overlapping this one's tube, as a knit's touching loops do). `iterations` holds the
+// yarn, overlapping this one's tube, as a knit's touching loops do). `evaluations` holds the
 // explicit trace's step count.
 PlyHit explicit_ply_answer(const CurveFrames& frames, const ExplicitPlies& plies, int ply_count,
-                           const YarnTubeHit& hit);
-// Adds one ray to `m`: how an implicit answer compares with the explicit one (N_i only when
-// count_crossings, since the explicit N_i is costly).
-void compare_with_explicit(MethodStats& m, const PlyHit& implicit, const PlyHit& reference, bool count_crossings);
+                           const YarnTubeHit& hit, PlySearchStats* stats = nullptr);
+// Adds one ray to `m`: how an implicit answer (and what its search spent) compares with the
+// explicit one (N_i only when count_crossings, since the explicit N_i is costly).
+void compare_with_explicit(MethodStats& m, const PlyHit& implicit, const PlySearchStats& spent,
+                           const PlyHit& reference, bool count_crossings);
 
 // An orthographic picture of one case for the Fig. 3-style maps: per pixel, whether each
 // method (and the reference) hit a ply and the ply tangents. Straight yarns are seen at

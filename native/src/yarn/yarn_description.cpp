@@ -3,21 +3,28 @@
 #include <cmath>
 #include <cstddef>
 
+#include "math/number_text.h"
 #include "math/vec.h"
 #include "scene/input_error.h"
 
 namespace purl {
 namespace {
 
-ParamInfo field(const char* name, const char* unit, float lo, float hi, float def, const char* doc,
-                size_t offset) {
-    return {name, unit, 1, lo, hi, {def, 0, 0}, doc, offset, false};
+ParamInfo field(const char* label, const char* name, const char* unit, float lo, float hi, float def,
+                const char* doc, size_t offset) {
+    return labelled({name, unit, 1, lo, hi, {def, 0, 0}, doc, offset, false}, label);
 }
 // A parameter that only takes whole numbers (stored as a float like the others).
-ParamInfo whole(const char* name, const char* unit, float lo, float hi, float def, const char* doc,
-                size_t offset) {
-    ParamInfo info = field(name, unit, lo, hi, def, doc, offset);
+ParamInfo whole(const char* label, const char* name, const char* unit, float lo, float hi, float def,
+                const char* doc, size_t offset) {
+    ParamInfo info = field(label, name, unit, lo, hi, def, doc, offset);
     info.is_integer = true;
+    return info;
+}
+// A twist direction: +1 (Z, right-handed) or -1 (S).
+ParamInfo sign(const char* label, const char* name, float def, const char* doc, size_t offset) {
+    ParamInfo info = field(label, name, "", -1, 1, def, doc, offset);
+    info.is_sign = true;
     return info;
 }
 
@@ -27,49 +34,49 @@ constexpr float kPrototypePlyRadius = 0.45f;
 std::vector<ParamInfo> build_table() {
     const float touching_distance = kPrototypePlyRadius / std::sin(kPi / 3);
     return {
-        whole("ply_count", "", 1, kMaxPlies, 3, "Number of plies in the yarn (whole number).",
+        whole("Plies", "ply_count", "", 1, kMaxPlies, 3, "Number of plies in the yarn (whole number).",
               offsetof(YarnDescription, ply_count)),
-        field("ply_radius", "R", 0.02f, 1, kPrototypePlyRadius, "Ply radius in yarn radii.",
+        field("Ply Radius", "ply_radius", "R", 0.02f, 1, kPrototypePlyRadius, "Ply radius in yarn radii.",
               offsetof(YarnDescription, ply_radius)),
-        field("ply_distance", "R", 0, 1, touching_distance,
+        field("Ply Distance", "ply_distance", "R", 0, 1, touching_distance,
               "Distance from the yarn centre-line to each ply centre-line, in yarn radii.",
               offsetof(YarnDescription, ply_distance)),
-        field("ply_twist", "rad/R", 0, 10, 2.0f / 3.0f,
+        field("Ply Twist", "ply_twist", "rad/R", 0, 10, 2.0f / 3.0f,
               "Ply turn rate around the yarn, radians per yarn radius of yarn length.",
               offsetof(YarnDescription, ply_twist)),
-        field("ply_handedness", "", -1, 1, 1, "+1 for Z-twisted (right-handed) plies, -1 for S.",
+        sign("Ply Direction", "ply_handedness", 1, "+1 for Z-twisted (right-handed) plies, -1 for S.",
               offsetof(YarnDescription, ply_handedness)),
-        whole("fiber_count", "", 1, 2000, 25, "Fibers per ply (whole number).",
+        whole("Fibers per Ply", "fiber_count", "", 1, 2000, 25, "Fibers per ply (whole number).",
               offsetof(YarnDescription, fiber_count)),
-        field("fiber_radius", "ply radii", 0.002f, 0.5f, 1.0f / std::sqrt(50.0f),
+        field("Fiber Radius", "fiber_radius", "ply radii", 0.002f, 0.5f, 1.0f / std::sqrt(50.0f),
               "Fiber radius in ply radii.", offsetof(YarnDescription, fiber_radius)),
-        field("fiber_twist", "rad/R", 0, 20, 2.0f / 3.0f,
+        field("Fiber Twist", "fiber_twist", "rad/R", 0, 20, 2.0f / 3.0f,
               "Fiber turn rate around the ply, radians per yarn radius of ply length.",
               offsetof(YarnDescription, fiber_twist)),
-        field("fiber_handedness", "", -1, 1, -1, "+1 for Z-twisted fibers, -1 for S.",
+        sign("Fiber Direction", "fiber_handedness", -1, "+1 for Z-twisted fibers, -1 for S.",
               offsetof(YarnDescription, fiber_handedness)),
-        field("migration_rho_min", "", 0, 1, 0.8f,
+        field("Migration Min", "migration_rho_min", "", 0, 1, 0.8f,
               "Smallest distance of a migrating fiber from the ply centre, as a fraction of its rest distance.",
               offsetof(YarnDescription, migration_rho_min)),
-        field("migration_rho_max", "", 0, 1, 1,
+        field("Migration Max", "migration_rho_max", "", 0, 1, 1,
               "Largest distance of a migrating fiber from the ply centre, as a fraction of its rest distance.",
               offsetof(YarnDescription, migration_rho_max)),
-        field("migration_frequency", "1/turn", 0, 10, 1.5f,
+        field("Migration Rate", "migration_frequency", "1/turn", 0, 10, 1.5f,
               "s_i: migration cycles per fiber turn around the ply.",
               offsetof(YarnDescription, migration_frequency)),
-        field("density_eps", "", 0, 0.5f, 0.1f,
+        field("Edge Density", "density_eps", "", 0, 0.5f, 0.1f,
               "Zhao's eps: fiber density at the ply boundary relative to the centre's 1 - eps.",
               offsetof(YarnDescription, density_eps)),
-        field("density_beta", "", 0, 4, 0.5f,
+        field("Density Falloff", "density_beta", "", 0, 4, 0.5f,
               "Zhao's beta: exponent of the fiber density fall-off toward the ply boundary.",
               offsetof(YarnDescription, density_beta)),
-        whole("map_resolution", "", 16, 4096, 256,
+        whole("Map Resolution", "map_resolution", "", 16, 4096, 256,
               "Samples around the circumference in each 1D fiber and ply-shadow map (whole number).",
               offsetof(YarnDescription, map_resolution)),
-        whole("migration_variants", "", 1, 16, 4,
+        whole("Map Variants", "migration_variants", "", 1, 16, 4,
               "Fiber-map variants switched along each ply to imitate migration (whole number).",
               offsetof(YarnDescription, migration_variants)),
-        whole("seed", "", 0, 1 << 24, 1, "Seed of the procedural fiber cross-sections (whole number).",
+        whole("Seed", "seed", "", 0, 1 << 24, 1, "Seed of the procedural fiber cross-sections (whole number).",
               offsetof(YarnDescription, seed)),
     };
 }
@@ -152,15 +159,15 @@ void check_yarn_description(const YarnDescription& d, const std::string& file, c
     for (const ParamInfo& info : yarn_description_params()) {
         const float v = *param_field(d, info);
         if (!(v >= info.min_value && v <= info.max_value))  // also catches NaN
-            fail(info.name, "value " + std::to_string(v) + " outside [" + std::to_string(info.min_value) +
-                                ", " + std::to_string(info.max_value) + "]");
+            fail(info.name, "value " + number_text(v) + " outside [" + number_text(info.min_value) +
+                                ", " + number_text(info.max_value) + "]");
     }
     const std::pair<const char*, float> whole[] = {
         {"ply_count", d.ply_count},          {"fiber_count", d.fiber_count},
         {"map_resolution", d.map_resolution}, {"migration_variants", d.migration_variants},
         {"seed", d.seed}};
     for (const auto& [name, v] : whole)
-        if (!is_whole(v)) fail(name, "must be a whole number, got " + std::to_string(v));
+        if (!is_whole(v)) fail(name, "must be a whole number, got " + number_text(v));
     if (std::fabs(d.ply_handedness) != 1.0f) fail("ply_handedness", "must be +1 (Z) or -1 (S)");
     if (std::fabs(d.fiber_handedness) != 1.0f) fail("fiber_handedness", "must be +1 (Z) or -1 (S)");
     if (d.ply_distance + d.ply_radius > 1.0f + 1e-4f)

@@ -12,8 +12,6 @@ namespace {
 YarnShadingPoint shade(const PlyHit& hit, const CurveFrames& frames, const YarnDescription& d, const YarnTwist& tw,
                        const FiberMaps& maps, uint32_t curve_key) {
     YarnShadingPoint sp;
-    sp.converged = hit.converged;
-    sp.iterations = hit.iterations;
     sp.segment = hit.segment;
     sp.t = hit.t;
     sp.exit_distance = hit.exit_distance;
@@ -81,7 +79,7 @@ YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription
 YarnShadingPoint trace_yarn_hit(const CurveFrames& frames, const YarnDescription& d, const YarnTwist& twist,
                                 const FiberMaps& maps, const YarnTubeHit& hit, uint32_t curve_key,
                                 const PlyTraceOptions& options) {
-    return shade(trace_plies(frames, d, twist, hit, options), frames, d, twist, maps, curve_key);
+    return shade(trace_plies({frames, d, twist, hit}, options), frames, d, twist, maps, curve_key);
 }
 
 }  // namespace purl

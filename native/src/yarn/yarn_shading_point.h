@@ -30,8 +30,6 @@ struct YarnShadingPoint {
     float exit_distance = 0;    // pass-through: from the tube entry to where the ray leaves the tube, m
     uint32_t segment = 0;       // centre-line parameter of the ply point's cross-section (for
     float t = 0;                //   tube_chord_length from `position`)
-    bool converged = true;      // false when a ply used the circular fallback
-    int iterations = 0;         // curve evaluations spent by the implicit ply search
 };
 
 // Fiber frame and maps for an implicit ply hit. `curve_key` (e.g. the curve index) decorrelates

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "math/ray_cylinder.h"
+
 namespace purl {
 namespace {
 
@@ -55,13 +57,9 @@ float outside_distance(Curve& frames, Vec3 x, Projected& at) {
 
 // Where the ray from `point` leaves the straight cylinder along c's tangent (-1: it does not).
 float cylinder_exit(const CurvePoint& c, Vec3 point, Vec3 direction) {
-    const Vec3 w = point - c.position;
-    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
-    const Vec3 d_perp = direction - c.tangent * dot(direction, c.tangent);
-    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
-    const float disc = b * b - a * (dot(w_perp, w_perp) - c.radius * c.radius);
-    if (a < 1e-12f || disc < 0) return -1;
-    return (-b + std::sqrt(disc)) / a;
+    const RayCylinder r = ray_cylinder(point, direction, c.position, c.tangent, c.radius);
+    if (r.along_axis() || r.discriminant() < 0) return -1;
+    return r.exit();
 }
 
 // Regula falsi (Illinois) inside the bracket h(lo) <= 0 < h(hi).
@@ -122,14 +120,9 @@ TubeExit exit_from(Curve& frames, const Projected& start, Vec3 point, Vec3 direc
     const float radius = std::max(c.radius, 1e-30f);
 
     // Exit from the straight cylinder at the start point: the first guess.
-    const Vec3 w = point - c.position;
-    const Vec3 w_perp = w - c.tangent * dot(w, c.tangent);
-    const Vec3 d_perp = direction - c.tangent * dot(direction, c.tangent);
-    const float a = dot(d_perp, d_perp), b = dot(w_perp, d_perp);
-    const float cc = std::min(dot(w_perp, w_perp) - radius * radius, 0.0f);
+    const RayCylinder straight = ray_cylinder(point, direction, c.position, c.tangent, radius);
     const float max_chord = 200 * radius;
-    float guess = a > 1e-12f ? (-b + std::sqrt(b * b - a * cc)) / a : max_chord;
-    guess = clamp(guess, 0.0f, max_chord);
+    float guess = clamp(straight.along_axis() ? max_chord : straight.chord(), 0.0f, max_chord);
 
     // Bracket the first exit: h(lo) <= 0 < h(hi). Inside, R - distance bounds the step.
     Projected at = start;

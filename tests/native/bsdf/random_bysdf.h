@@ -30,6 +30,7 @@ inline BysdfParams random_bysdf_params(Rng& rng) {
     p.sigma_t_body = uniform(rng, 0.0f, 2.0f);
     p.ply_shadow_floor = rng.next_float();
     p.fiber_shadow_floor = rng.next_float();
+    p.ply_crossing = rng.next_float() < 0.5f ? 0.0f : 1.0f;
     p.ply_color_count = float(1 + int(rng.next_float() * kMaxPlyColors));
     for (Vec3& c : p.ply_colors) c = random_color(rng);
     return p;
@@ -42,6 +43,7 @@ inline BysdfShadingPoint random_shading_point(Rng& rng) {
     sp.plies_crossed = 1 + int(rng.next_float() * 6);
     sp.ply_index = int(rng.next_float() * 12);
     sp.yarn_color = random_color(rng);
+    sp.mean_fiber_shadow = rng.next_float();
     return sp;
 }
 

@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "chi_square.h"
+#include "support/chi_square.h"
 #include "random_bysdf.h"
 
 namespace purl::test {
@@ -118,6 +118,7 @@ TEST(BysdfFurnace, ExtinctionOnlyDimsTransmission) {
     BysdfParams p = white_bysdf_params(0.5f);
     p.sigma_t_specular = 3.0f;
     p.sigma_t_body = 0.5f;
+    p.ply_crossing = 0;  // the paper's tau^N_i
     BysdfShadingPoint sp;
     sp.plies_crossed = 2;
     const Bysdf m(p, sp);
@@ -130,6 +131,53 @@ TEST(BysdfFurnace, ExtinctionOnlyDimsTransmission) {
     EXPECT_NEAR(average(b.eval(wo, transmitted, 1.2f)) / average(b.eval(wo, transmitted, 0.0f)),
                 std::exp(-2 * 0.5 * 1.2), 1e-5);
     EXPECT_NEAR(m.transmittance(0, 0.4f), std::exp(-2 * 3.0 * 0.4), 1e-6);
+}
+
+// Traced ply crossing: the hit ply's own path attenuates the transmission, N_i does not count,
+// and each other ply crossed passes on A_k (its transmission and reflection) on every lobe.
+TEST(BysdfFurnace, TracedCrossingAttenuatesByThePliesCrossed) {
+    BysdfParams p = default_bysdf_params();
+    p.ply_crossing = 1;
+    p.sigma_t_specular = 3.0f;
+    p.sigma_t_body = 0.5f;
+    BysdfShadingPoint sp;
+    sp.plies_crossed = 4;  // ignored
+    sp.ply_shadow = 0.1f;  // ignored: the plies crossed are the ply shadowing
+    sp.fiber_shadow = 0.9f;
+    sp.mean_fiber_shadow = 0.8f;
+    const Bysdf m(p, sp);
+    EXPECT_NEAR(m.transmittance(1, 0.4f), std::exp(-0.5 * 0.4), 1e-6);
+    const Vec3 wo = incident(30), reflected(-0.3f, 0.2f, 0.93f), transmitted(-0.2f, 0.1f, -0.97f);
+    BysdfParams paper = p;
+    paper.ply_crossing = 0;
+    paper.ply_shadow_floor = 1.0f;
+    BysdfShadingPoint one = sp;
+    one.plies_crossed = 1;
+    const Bysdf unshadowed(paper, one);  // G_p 1 and N_i 1: what traced gives with no other ply
+    PlyCrossings alone;
+    alone.own = 0.7f;
+    for (Vec3 wi : {reflected, transmitted}) {
+        const Vec3 a = m.eval(wo, wi, 1.3f, &alone), b = unshadowed.eval(wo, wi, 0.7f);
+        EXPECT_NEAR(a.x, b.x, 1e-6f * std::max(1.0f, b.x));
+    }
+    // Two more plies: every lobe times A_1 A_2, each A_k < 1.
+    PlyCrossings two = alone;
+    two.others = 2;
+    two.other[0] = 0.3f;
+    two.other[1] = 0.5f;
+    const Vec3 a1 = m.other_plies_transmission({0, 1, {0.3f}}), a2 = m.other_plies_transmission({0, 1, {0.5f}});
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_LT((&a1.x)[c], 1.0f);
+        EXPECT_LT((&a2.x)[c], (&a1.x)[c] + 1e-7f);  // the longer path passes less
+    }
+    for (Vec3 wi : {reflected, transmitted}) {
+        const Vec3 f2 = m.eval(wo, wi, 1.3f, &two), f0 = m.eval(wo, wi, 1.3f, &alone);
+        EXPECT_NEAR(f2.x, f0.x * a1.x * a2.x, 1e-6f * std::max(1.0f, f0.x));
+    }
+    // A white ply without extinction passes everything on; the paper ignores PlyCrossings.
+    const Bysdf white(white_bysdf_params(0.5f), sp);
+    EXPECT_NEAR(average(white.other_plies_transmission(two)), 1.0f, 1e-5f);
+    EXPECT_EQ(average(unshadowed.eval(wo, reflected, 0.0f, &two)), average(unshadowed.eval(wo, reflected)));
 }
 
 }  // namespace

@@ -126,6 +126,7 @@ TEST(BysdfLobes, ShadowingDimsOnlyTheBodyWithFloors) {
     BysdfParams p = white_bysdf_params(0.5f);
     p.ply_shadow_floor = 0.6f;
     p.fiber_shadow_floor = 0.5f;
+    p.ply_crossing = 0;  // G_p from the map (traced: from the plies crossed)
     BysdfParams spec_only = p, body_only = p;
     spec_only.body_reflection_albedo = spec_only.body_transmission_albedo = Vec3(0.0f);
     body_only.specular_reflection_albedo = body_only.specular_transmission_albedo = Vec3(0.0f);

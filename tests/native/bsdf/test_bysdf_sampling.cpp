@@ -2,7 +2,7 @@
 // directions (grazing and back-facing included), and sample records consistent with eval/pdf.
 #include <gtest/gtest.h>
 
-#include "chi_square.h"
+#include "support/chi_square.h"
 #include "random_bysdf.h"
 
 namespace purl::test {

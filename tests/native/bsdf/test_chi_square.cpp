@@ -1,7 +1,7 @@
 // The harness itself: it must accept a correct sampler and reject near misses.
 #include <gtest/gtest.h>
 
-#include "chi_square.h"
+#include "support/chi_square.h"
 #include "math/sampling.h"
 
 namespace purl::test {

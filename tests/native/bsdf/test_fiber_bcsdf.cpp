@@ -11,7 +11,7 @@
 
 #include "bsdf/fiber_bcsdf.h"
 #include "bsdf/gaussian.h"
-#include "chi_square.h"
+#include "support/chi_square.h"
 #include "math/rng.h"
 #include "scene/input_error.h"
 

@@ -4,7 +4,7 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/ggx.h"
 #include "bsdf/lommel_seeliger.h"
-#include "chi_square.h"
+#include "support/chi_square.h"
 #include "math/rng.h"
 
 namespace purl::test {

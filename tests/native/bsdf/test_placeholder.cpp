@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "bsdf/placeholder.h"
-#include "chi_square.h"
+#include "support/chi_square.h"
 #include "math/rng.h"
 
 namespace purl::test {

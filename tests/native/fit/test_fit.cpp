@@ -42,6 +42,11 @@ FitTarget synthetic_target(const std::string& lighting, const BysdfParams& truth
     return t;
 }
 
+float max_channel_sum(const LobeEnergies& e) {
+    auto m = [](Vec3 v) { return std::max(v.x, std::max(v.y, v.z)); };
+    return std::max(m(e.e[0]), m(e.e[1])) + m(e.e[2]) + m(e.e[3]);
+}
+
 fs::path temp_dir() {
     const fs::path dir = fs::temp_directory_path() / ("purl_fit_test_" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -68,6 +73,39 @@ TEST(FitParams, AliasesAndErrors) {
     EXPECT_THROW(parse_fit_parameters("r,bogus", "--params"), InputError);
     EXPECT_THROW(parse_fit_parameters("r,body_reflection_share", "--params"), InputError);
     EXPECT_THROW(parse_fit_parameters("", "--params"), InputError);
+}
+
+// Lobe energies: what the image depends on. B, r0 and the albedos that give them reproduce them,
+// whatever B and r0 were before, and naming them next to B, r or an albedo is refused.
+TEST(FitParams, LobeEnergiesSetBShareAndAlbedosTogether) {
+    BysdfParams p = default_bysdf_params();
+    LobeEnergies want;
+    want.e[kLobeSpecularReflection] = Vec3(0.3f, 0.3f, 0.2f);
+    want.e[kLobeSpecularTransmission] = Vec3(0.1f, 0.05f, 0.0f);
+    want.e[kLobeBodyReflection] = Vec3(0.2f, 0.1f, 0.05f);
+    want.e[kLobeBodyTransmission] = Vec3(0.4f, 0.2f, 0.1f);
+    set_lobe_energies(p, want);
+    const LobeEnergies got = lobe_energies(p);
+    for (int l = 0; l < 4; ++l)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR((&got.e[l].x)[c], (&want.e[l].x)[c], 1e-6f) << l << " " << c;
+    EXPECT_NEAR(p.body_share, 0.6f, 1e-6f);
+    EXPECT_NEAR(p.body_reflection_share, 0.2f / 0.6f, 1e-6f);
+    check_bysdf_params(p, "test", "material");  // every value inside its range
+    // Asking for more than all the energy scales the lobes down together.
+    want.e[kLobeBodyTransmission] = Vec3(0.9f);
+    set_lobe_energies(p, want);
+    EXPECT_NEAR(max_channel_sum(lobe_energies(p)), 1.0f, 1e-5f);
+
+    const auto u = parse_fit_parameters("axB,ayB,sigma_t,alpha_x", "--params");
+    ASSERT_EQ(u.size(), 8u);
+    EXPECT_EQ(u[0].lobe, kLobeBodyReflection);
+    EXPECT_EQ(u[3].label, "ayB[0]");
+    const std::vector<float> values = {0.1f, 0.1f, 0.1f, 0.3f, 0.2f, 0.1f, 2.0f, 0.25f};
+    const BysdfParams fitted = apply_unknowns(default_bysdf_params(), u, values);
+    for (size_t k = 0; k < u.size(); ++k) EXPECT_NEAR(u[k].get(fitted), values[k], 1e-6f) << u[k].label;
+    EXPECT_THROW(parse_fit_parameters("axB,r", "--params"), InputError);
+    EXPECT_THROW(parse_fit_parameters("ayS,kyB", "--params"), InputError);
+    EXPECT_THROW(parse_fit_parameters("axB,axB", "--params"), InputError);
 }
 
 // Targets rendered with known parameters and the same seed and sample count as the fit's own

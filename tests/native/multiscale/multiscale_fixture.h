@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bsdf/bysdf_params.h"
+#include "yarn/ply_crossings.h"
 #include "render/multiscale.h"
 #include "yarn/ply_validation.h"
 #include "yarn/yarn_shading_point.h"
@@ -90,11 +91,19 @@ inline Vec3 near_field_integrand(const StraightYarn& s, const YarnTubeHit& hit, 
     p.specular_roughness_across += roughening;
     p.transmission_roughness += roughening;
     const Bysdf b(p, BysdfShadingPoint{y.ply_shadowing, y.fiber_shadowing, std::max(1, y.plies_crossed), y.ply_index,
-                                       Vec3(1.0f)});
+                                       Vec3(1.0f), s.maps.mean_fiber_shadowing()});
     const Frame f = Frame::from_normal_tangent(y.fiber_normal, y.fiber_tangent);
     const Vec3 wo_l = f.to_local(wo), wi_l = f.to_local(wi);
+    const float radius = s.frames.reference_radius();
+    if (b.traces_plies()) {  // as ShadingPoint::leave: the plies the leaving ray crosses
+        const float chord = tube_chord_length(s.frames, y.segment, y.t, y.position, wi) / radius;
+        const PlySection section = ply_section(s.frames.evaluate(y.segment, y.t), s.description,
+                                               yarn_twist(s.frames, s.description), y.ply_index, y.position);
+        const PlyCrossings plies = cross_plies(section, s.description, y.ply_index, wi, chord);
+        return b.eval(wo_l, wi_l, chord, &plies) * std::fabs(wi_l.z);
+    }
     const float chord = wo_l.z * wi_l.z < 0 ? tube_chord_length(s.frames, y.segment, y.t, y.position, wi) : 0.0f;
-    return b.eval(wo_l, wi_l, chord) * std::fabs(wi_l.z);
+    return b.eval(wo_l, wi_l, chord / radius) * std::fabs(wi_l.z);
 }
 
 // The model's f~ |cos_ref| for world directions, times the share of the footprint that hit.

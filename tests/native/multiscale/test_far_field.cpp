@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "../bsdf/chi_square.h"
+#include "support/chi_square.h"
 #include "math/rng.h"
 #include "multiscale_fixture.h"
 #include "render/far_field.h"
@@ -101,8 +101,18 @@ double worst_difference(const StraightYarn& s, const FarFieldTable& table) {
         for (int l = 0; l < 6; ++l)
             for (int c = 0; c < 3; ++c)
                 view_worst = std::max(view_worst, std::fabs(double(tabulated.value[l][c] - sampled.value[l][c])) / largest);
-        std::printf("psi %.2f: pass fraction table %.3f sampled %.3f; lobe integrals worst difference %.3f of the largest\n",
-                    psi, 1 - table_hit, pass / queries, view_worst);
+        // And in the sum of all lobe integrals: a bias shared by every lobe (measured 0.99-1.01,
+        // 1.05 grazing).
+        double sum_tabulated = 0, sum_sampled = 0;
+        for (int l = 0; l < 6; ++l)
+            for (int c = 0; c < 3; ++c) {
+                sum_tabulated += tabulated.value[l][c];
+                sum_sampled += sampled.value[l][c];
+            }
+        const double ratio = sum_tabulated / sum_sampled;
+        std::printf("psi %.2f: pass fraction table %.3f sampled %.3f; lobe integrals worst difference %.3f of the largest, "
+                    "sum ratio %.4f\n", psi, 1 - table_hit, pass / queries, view_worst, ratio);
+        EXPECT_NEAR(ratio, 1.0, psi < 1 ? 0.03 : 0.08) << psi;
         EXPECT_NEAR(1 - table_hit, pass / queries, 0.03) << psi;
         worst = std::max(worst, view_worst);
     }
@@ -110,6 +120,9 @@ double worst_difference(const StraightYarn& s, const FarFieldTable& table) {
 }
 
 TEST(FarField, TableMatchesTheSampledFarField) {
+    // The traced ply crossing (default): the table's lobe markers with the other plies' A_k
+    // from the material's colours, per channel. (Leaving the plies crossed out of the table, as
+    // before issue 26's far-field work: worst 0.33-0.43, sum ratio 1.20-1.26.)
     const StraightYarn s = coloured_yarn();
     const auto table = far_field_table(s.description, s.params, s.settings);
     std::printf("table: %d classes, %zu bytes, built in %.2f s\n", table->classes(), table->memory_bytes(),
@@ -122,12 +135,13 @@ TEST(FarField, TableMatchesTheSampledFarField) {
 }
 
 TEST(FarField, ColoursMultiplyAtLookup) {
-    // One table serves every colour: a curve's own body colour (with_body_color) and the ply
-    // colours enter only at lookup, linearly.
+    // The lobe at the hit is linear in its colours, which enter at lookup (a curve's own body
+    // colour, with_body_color, and the ply colours); the plies crossed on the way out pass on
+    // a product of the material's albedos, so another material colour is another table.
     const StraightYarn s = coloured_yarn();
     BysdfParams other = with_body_color(s.params, Vec3(0.9f, 0.2f, 0.1f));
     other.specular_transmission_albedo = Vec3(0.1f, 0.9f, 0.5f);
-    EXPECT_EQ(far_field_table(s.description, s.params, s.settings).get(),
+    EXPECT_NE(far_field_table(s.description, s.params, s.settings).get(),
               far_field_table(s.description, other, s.settings).get());
     BysdfParams rougher = s.params;
     rougher.specular_roughness_along += 0.1f;

@@ -8,6 +8,8 @@
 #include "scene/bcc.h"
 #include "scene/scene.h"
 
+#include "support/shared_data.h"
+
 namespace purl::test {
 
 inline YarnCurves straight_yarn(float radius, float length) {
@@ -46,7 +48,7 @@ inline YarnCurves loop_yarn(float radius, float loop_radius) {
 
 // The first `count` loops of glove.bcc at yarn radius 0.1 (file units).
 inline YarnCurves glove_yarns(size_t count) {
-    const YarnCurves all = load_bcc(std::string(PURL_SHARED_DATA_DIR) + "/glove.bcc", 0.1f);
+    const YarnCurves all = load_bcc(shared_data_path("glove.bcc"), 0.1f);
     YarnCurves c;
     for (size_t k = 0; k < count && k < all.curve_count(); ++k) {
         const uint32_t s0 = all.segment_offsets[k], s1 = all.segment_offsets[k + 1];

@@ -69,6 +69,7 @@ TEST(ExplicitScene, ConvertsBysdfSetsAndKeepsEverythingElse) {
 
 TEST(ExplicitScene, MemoryEstimateMatchesEmbreesOwnCount) {
     // The estimate's Embree share (kEmbreeBytesPerSegment) against the device's memory monitor.
+    GTEST_SKIP_WITHOUT_SHARED_DATA("glove.bcc");
     SceneDesc scene;
     scene.yarns.push_back(bysdf_set(glove_yarns(2), yarn_preset("prototype"), "glove"));
     scene.yarns[0].material.yarn.fiber_count = 8;
@@ -101,7 +102,8 @@ TEST(ExplicitScene, RefusesGeometryBeyondTheBudgetBeforeBuildingIt) {
     EXPECT_NO_THROW(make_explicit_scene(scene, YarnModel::Ply, tight));  // plies are small enough
     // The default budget (8 GiB) refuses a fiber glove with far too many fibers per ply.
     SceneDesc glove;
-    glove.yarns.push_back(bysdf_set(load_bcc(std::string(PURL_SHARED_DATA_DIR) + "/glove.bcc", 0.1f),
+    GTEST_SKIP_WITHOUT_SHARED_DATA("glove.bcc");  // after the small scenes, which ran
+    glove.yarns.push_back(bysdf_set(load_bcc(shared_data_path("glove.bcc"), 0.1f),
                                     yarn_preset("prototype"), "glove"));
     glove.yarns[0].material.yarn.fiber_count = 2000;
     EXPECT_THROW(make_explicit_scene(glove, YarnModel::Fiber), InputError);

@@ -16,7 +16,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "../reference_images.h"
+#include "support/reference_images.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/scene_json.h"

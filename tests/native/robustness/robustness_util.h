@@ -90,6 +90,17 @@ inline size_t peak_resident_bytes() {
     return static_cast<size_t>(usage.ru_maxrss) * 1024;
 }
 
+// Bytes this process has read through read() and friends so far (/proc/self/io "rchar"): how
+// much of a file a reader looked at, counted rather than timed. 0 where /proc is missing.
+inline uint64_t bytes_read() {
+    std::ifstream io("/proc/self/io");
+    std::string key;
+    uint64_t value = 0;
+    while (io >> key >> value)
+        if (key == "rchar:") return value;
+    return 0;
+}
+
 // The InputError's text from running `f`, or "" when nothing (or something else) was thrown.
 template <class F>
 std::string input_error_of(F&& f) {

@@ -5,7 +5,6 @@
 // the placeholder material.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 
 #include "render/renderer.h"
@@ -95,21 +94,18 @@ void expect_finite_image(const RenderResult& result) {
 
 void render_and_check(const std::string& material, bool zero_length_loop = false) {
     const SceneDesc s = degenerate_scene(material, zero_length_loop);
-    const auto start = std::chrono::steady_clock::now();
     Renderer r(s);
     RenderControl control;
     const RenderResult result = r.render(control);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     expect_finite_image(result);
-    // 384 pixels x 4 samples: a hang (a ray stuck between plies) would blow far past this.
-    EXPECT_LT(seconds, 60.0);
+    // 384 pixels x 4 samples: a hang (a ray stuck between plies) runs into ctest's TIMEOUT.
     // Yarn pixels were seen at all (the camera looks at the curves).
     const ImagePass* id = result.image.find("YarnID");
     int yarn_pixels = 0;
     for (float v : id->pixels) yarn_pixels += v > 0;
     EXPECT_GT(yarn_pixels, 10);
     testing::Test::RecordProperty("invalid_samples", std::to_string(result.stats.invalid_samples));
-    std::printf("%s: %.2f s, %llu of %llu samples invalid (dropped)\n", material.c_str(), seconds,
+    std::printf("%s: %.2f s, %llu of %llu samples invalid (dropped)\n", material.c_str(), result.stats.render_seconds,
                 (unsigned long long)result.stats.invalid_samples, (unsigned long long)result.stats.samples);
 }
 

@@ -83,3 +83,18 @@ TEST(FuzzRegressions, JsonNumberOverflowIsAnError) {
               std::string::npos)
         << error;
 }
+
+// fuzz_scene_json, CI run of 2026-12-02: a camera whose position and look_at are finite but so far
+// apart that their float difference overflows got a NaN frame. look_at now works in double, and
+// an up along the view (here also along Y, the first fallback) still gives a frame.
+TEST(FuzzRegressions, CameraPlacementsOfDistinctFinitePointsAreFinite) {
+    EXPECT_EQ(replay("scene_json", bytes_of(kRegressions / "scene_json" / "camera_far_apart.json")), "");
+    EXPECT_EQ(replay("scene_json", bytes_of(kRegressions / "scene_json" / "camera_up_along_y_view.json")), "");
+}
+
+// fuzz_bcc, CI run of 2026-12-02: a file whose points are all equal loaded, and only
+// validate_curves refused it later. load_bcc now names it.
+TEST(FuzzRegressions, BccCollapsedToOnePointIsAnError) {
+    const std::string error = replay("bcc", bytes_of(kRegressions / "bcc" / "collapsed_to_one_point.bcc"));
+    EXPECT_NE(error.find("is collapsed to one point"), std::string::npos) << error;
+}

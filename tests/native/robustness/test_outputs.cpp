@@ -1,8 +1,12 @@
 // Nothing lost: images are written to a temporary sibling and renamed, so a failed write
 // leaves the previous image as it was and no temporary behind, and writes of the same
-// output from several threads at once each leave a whole file.
+// output from several threads at once each leave a whole file. Output paths that could not
+// be written are refused before a render; a process terminated while writing leaves nothing.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <csignal>
 #include <thread>
 
 #include "io/image_io.h"
@@ -68,4 +72,47 @@ TEST(Outputs, ConcurrentWritesOfOneOutputEachLeaveAWholeFile) {
     // Whichever writer renamed last, every pixel comes from that one image.
     for (float v : read.rgb) EXPECT_EQ(v, read.rgb[0]);
     EXPECT_EQ(files_in(dir.path()), 1u) << "a temporary was left behind";
+}
+
+TEST(Outputs, BadOutputPathsAreRefusedBeforeAnyWork) {
+    ScratchDir dir("output-paths");
+    auto reason = [](const std::string& path, bool png_only = false) {
+        return input_error_of([&] { check_output_path(path, "-o", png_only); });
+    };
+    EXPECT_EQ(reason(dir.file("fine.exr")), "");
+    EXPECT_EQ(reason(dir.file("fine.PNG"), true), "");
+    EXPECT_NE(reason(dir.file("missing/x.exr")).find("does not exist"), std::string::npos);
+    EXPECT_NE(reason(dir.file("x.jpg")).find("must end in .exr or .png"), std::string::npos);
+    EXPECT_NE(reason(dir.file("x.exr"), true).find("must end in .png"), std::string::npos);
+    fs::create_directory(dir.file("folder.exr"));
+    EXPECT_NE(reason(dir.file("folder.exr")).find("is a folder"), std::string::npos);
+    EXPECT_NE(reason("/proc/x.exr").find("cannot create a file in /proc"), std::string::npos);
+    EXPECT_EQ(files_in(dir.path()), 1u);  // the probe files are gone again
+}
+
+// A process killed (SIGTERM) in the middle of writing an image leaves no temporary behind,
+// when its handler calls discard_partial_output as the CLI's does.
+TEST(Outputs, TerminationDuringAWriteLeavesNoTemporary) {
+    ScratchDir dir("terminated");
+    const std::string out = dir.file("image.exr");
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        std::signal(SIGTERM, [](int sig) {
+            discard_partial_output();
+            std::signal(sig, SIG_DFL);
+            std::raise(sig);
+        });
+        write_file_atomically(out, [](const std::string& tmp) {
+            std::ofstream(tmp) << "half an image";
+            std::raise(SIGTERM);
+            std::ofstream(tmp, std::ios::app) << "never";
+        });
+        _exit(0);  // not reached
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    EXPECT_EQ(WTERMSIG(status), SIGTERM);
+    EXPECT_EQ(files_in(dir.path()), 0u);
 }

@@ -1,5 +1,6 @@
 // Value-level limits: radius 0 and 1e30, NaN and Inf wherever numbers enter, 10^5 plies,
-// films too large to allocate. Each is a clear InputError (or a documented clamp).
+// films too large to allocate, colours outside [0, 1], a zero up vector, NUL in a file name,
+// a key given twice. Each is a clear InputError (or a documented clamp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -49,7 +50,10 @@ TEST(ValueLimits, RadiusZeroIsAnError) {
     const std::string bcc = small_bcc(dir);
     EXPECT_NE(input_error_of([&] { load_bcc(bcc, 0.0f); }).find("radius must be positive"), std::string::npos);
     const std::string json = "{" + kCamera + R"(, "yarns": [{"bcc": "small.bcc", "radius": 0}]})";
-    EXPECT_NE(scene_error(json, dir.path().string()).find("yarns[0].radius: must be in"), std::string::npos);
+    // Numbers as written, not "[0.000000, ...], got 0.000000".
+    EXPECT_NE(scene_error(json, dir.path().string()).find("yarns[0].radius: must be in [1e-09, 1e+30], got 0"),
+              std::string::npos)
+        << scene_error(json, dir.path().string());
     // In-memory arrays (Blender hair) may taper to 0; a curve with no thickness at all may not.
     EXPECT_NE(input_error_of([&] { arrays_curves({0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0}, {0, 0, 0, 0}); })
                   .find("curve 0: every radius is 0"),
@@ -77,10 +81,11 @@ TEST(ValueLimits, RadiusLargerThanTheYarnSetIsAnError) {
     EXPECT_NE(input_error_of([&] { arrays_curves({0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0}, {1e30f, 1e30f, 1e30f, 1e30f}); })
                   .find("larger than the whole yarn set"),
               std::string::npos);
-    // A yarn set whose points all coincide has no extent at all.
-    EXPECT_NE(input_error_of([&] { arrays_curves(std::vector<float>(12, 0.5f), {0.1f, 0.1f, 0.1f, 0.1f}); })
-                  .find("bounding-box diagonal 0)"),
-              std::string::npos);
+    // A yarn set whose points all coincide has no extent at all: said so, not blamed on the radius.
+    const std::string collapsed =
+        input_error_of([&] { arrays_curves(std::vector<float>(12, 0.5f), {0.1f, 0.1f, 0.1f, 0.1f}); });
+    EXPECT_NE(collapsed.find("curve 0: is collapsed to one point"), std::string::npos) << collapsed;
+    EXPECT_EQ(collapsed.find("radius"), std::string::npos) << collapsed;
 }
 
 TEST(ValueLimits, NonFiniteNumbersAreErrorsWherever) {
@@ -105,9 +110,10 @@ TEST(ValueLimits, NonFiniteNumbersAreErrorsWherever) {
     dir.write("far.bcc", bcc_file("BS", {far}));
     const std::string scaled = "{" + kCamera + R"(, "yarns": [{"bcc": "far.bcc", "radius": 1,
         "matrix_world": [1e30, 0, 0, 0, 0, 1e30, 0, 0, 0, 0, 1e30, 0, 0, 0, 0, 1]}]})";
-    // Point 0 sits at the origin, so its radius (1 x the scale) is the first to overflow.
-    EXPECT_NE(scene_error(scaled, dir.path().string()).find("point 0: radius must be positive and finite, got inf"),
-              std::string::npos);
+    // The scale (1e30, a float) and the radius it gives are finite; point 1 at 1e40 is not.
+    EXPECT_NE(scene_error(scaled, dir.path().string()).find("curve 0, point 1: position is not finite"),
+              std::string::npos)
+        << scene_error(scaled, dir.path().string());
     // OBJ vertices and in-memory arrays.
     MeshDesc mesh;
     EXPECT_NE(input_error_of([&] { read_obj(dir.write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"), mesh); })
@@ -127,14 +133,14 @@ TEST(ValueLimits, NonFiniteNumbersAreErrorsWherever) {
 TEST(ValueLimits, HundredThousandPliesAreRejected) {
     const std::string json = "{" + kCamera + R"(, "yarns": [{"generate": {"kind": "plain", "warps": 2, "wefts": 2},
         "material": {"yarn": {"ply_count": 100000}}}]})";
-    EXPECT_NE(scene_error(json).find("yarns[0].material.yarn.ply_count: must be in [1.000000, 12.000000], got 100000"),
+    EXPECT_NE(scene_error(json).find("yarns[0].material.yarn.ply_count: must be in [1, 12], got 100000"),
               std::string::npos)
         << scene_error(json);
     // Descriptions built in code (Python, the add-on) meet the same check.
     YarnDescription d = default_yarn_description();
     d.ply_count = 1e5f;
     EXPECT_NE(input_error_of([&] { check_yarn_description(d, "preset.json", "yarn"); })
-                  .find("preset.json: yarn.ply_count: value 100000.000000 outside [1.000000, 12.000000]"),
+                  .find("preset.json: yarn.ply_count: value 100000 outside [1, 12]"),
               std::string::npos);
     d = default_yarn_description();
     d.fiber_count = 1e5f;
@@ -185,4 +191,32 @@ TEST(ValueLimits, JsonNumberBeyondDoubleRangeIsAnInputError) {
     EXPECT_NE(error.find("scene.json: line 2, column 2: not valid JSON (number overflow parsing '1e400')"),
               std::string::npos)
         << error;
+}
+
+TEST(ValueLimits, InputsOnceAcceptedSilentlyAreErrors) {
+    const std::string mesh = R"("meshes": [{"vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "triangles": [[0, 1, 2]])";
+    // A negative albedo made every sample invalid: a black mesh and exit 0.
+    EXPECT_NE(scene_error("{" + kCamera + ", " + mesh + R"(, "color": [0.5, -0.1, 0.3]}]})")
+                  .find("meshes[0].color: element 1 must be in [0, 1], got -0.1"),
+              std::string::npos);
+    EXPECT_NE(scene_error("{" + kCamera + ", " + mesh + R"(, "color": [1.5, 0, 0]}]})").find("got 1.5"),
+              std::string::npos);
+    EXPECT_NE(scene_error(R"({"camera": {"position": [0, -1, 0.5], "look_at": [0, 0, 0], "up": [0, 0, 0]}, )" + mesh +
+                          "}]}")
+                  .find("camera.up: has zero length"),
+              std::string::npos);
+    // The system would open "a" instead of "a\0.obj".
+    EXPECT_NE(scene_error("{" + kCamera + R"(, "meshes": [{"obj": "a\u0000.obj"}]})")
+                  .find("meshes[0].obj: contains a NUL character"),
+              std::string::npos);
+    // nlohmann keeps the last of two equal keys: the first setting was lost without a word.
+    EXPECT_NE(scene_error("{" + kCamera + ", " + mesh + R"(, "color": [1, 0, 0], "color": [0, 1, 0]}]})")
+                  .find("scene.json: meshes[0].color: given twice in the same object"),
+              std::string::npos)
+        << scene_error("{" + kCamera + ", " + mesh + R"(, "color": [1, 0, 0], "color": [0, 1, 0]}]})");
+    EXPECT_NE(scene_error("{" + kCamera + ", " + kCamera + "}").find("scene.json: camera: given twice"),
+              std::string::npos);
+    EXPECT_NE(scene_error("{" + kCamera + R"(, "lights": [{}, {"type": "point", "type": "sun"}], )" + mesh + "}]}")
+                  .find("lights[1].type: given twice"),
+              std::string::npos);
 }

@@ -36,6 +36,13 @@ YarnTubeHit side_hit(const CurveFrames& f, float y, float psi, float z0, float r
     return h;
 }
 
+// One query, the yarn's twist computed here.
+PlyHit trace(const CurveFrames& f, const YarnDescription& d, const YarnTubeHit& h, const PlyTraceOptions& o = {},
+             PlySearchStats* spent = nullptr) {
+    const YarnTwist tw = yarn_twist(f, d);
+    return trace_plies({f, d, tw, h}, o, spent);
+}
+
 bool finite(const PlyHit& h) {
     return is_finite(h.point) && is_finite(h.normal) && is_finite(h.tangent) && std::isfinite(h.distance) &&
            std::isfinite(h.exit_distance) && std::isfinite(h.u_ply) && std::isfinite(h.v_ply) &&
@@ -88,10 +95,11 @@ TEST(ImplicitPlies, SideViewMatchesTheExplicitPliesExactly) {
     const ExplicitPlies ex(y.frames, d);
     for (float offset : {-0.8f, -0.3f, 0.0f, 0.45f, 0.9f}) {
         const YarnTubeHit h = side_hit(y.frames, offset, 0.0f, 20.3f);
-        const PlyHit imp = trace_plies(y.frames, d, h);
+        PlySearchStats spent;
+        const PlyHit imp = trace(y.frames, d, h, {}, &spent);
         const ExplicitHit ref = ex.intersect_plies(h.origin, h.direction, 0, 20);
         ASSERT_EQ(imp.hit, ref.hit) << offset;
-        EXPECT_TRUE(imp.converged);
+        EXPECT_TRUE(spent.converged);
         EXPECT_TRUE(finite(imp));
         if (!ref.hit) continue;
         EXPECT_EQ(imp.ply, ref.ply);
@@ -114,7 +122,7 @@ TEST(ImplicitPlies, RimRayPassesThroughWithItsExitDistance) {
     for (PlyCrossSection cs : {PlyCrossSection::elliptical, PlyCrossSection::circular}) {
         PlyTraceOptions o;
         o.cross_section = cs;
-        const PlyHit imp = trace_plies(y.frames, touching_plies(3), h, o);
+        const PlyHit imp = trace(y.frames, touching_plies(3), h, o);
         EXPECT_FALSE(imp.hit);
         EXPECT_EQ(imp.plies_crossed, 0);
         EXPECT_NEAR(imp.exit_distance, 2 * std::sqrt(1 - 0.985f * 0.985f) / std::cos(0.3f), 1e-3f);
@@ -135,8 +143,9 @@ TEST(ImplicitPlies, UnconvergedSearchFallsBackToTheCircularCut) {
     int hits = 0, unconverged = 0;
     for (int i = 0; i < 50; ++i) {
         const YarnTubeHit h = side_hit(y.frames, -0.9f + 0.036f * i, 1.0f, 20.0f);
-        const PlyHit imp = trace_plies(y.frames, d, h, starved);
-        unconverged += !imp.converged;
+        PlySearchStats spent;
+        const PlyHit imp = trace(y.frames, d, h, starved, &spent);
+        unconverged += !spent.converged;
         EXPECT_TRUE(finite(imp));
         hits += imp.hit;
         if (imp.hit) {
@@ -147,7 +156,9 @@ TEST(ImplicitPlies, UnconvergedSearchFallsBackToTheCircularCut) {
     EXPECT_GT(unconverged, 40);
     EXPECT_GT(hits, 25);  // the fallback still finds plies
     // With the default budget the same rays converge.
-    EXPECT_TRUE(trace_plies(y.frames, d, side_hit(y.frames, 0.1f, 1.0f, 20.0f)).converged);
+    PlySearchStats spent;
+    trace(y.frames, d, side_hit(y.frames, 0.1f, 1.0f, 20.0f), {}, &spent);
+    EXPECT_TRUE(spent.converged);
 }
 
 TEST(ImplicitPlies, DegenerateRaysStayFinite) {
@@ -159,18 +170,17 @@ TEST(ImplicitPlies, DegenerateRaysStayFinite) {
     h.origin = h.point - h.direction;
     h.segment = 9;
     h.t = 0.5f;
-    for (PlyCrossSection cs : {PlyCrossSection::elliptical, PlyCrossSection::elliptical_yarn_plane,
-                               PlyCrossSection::circular}) {
+    for (PlyCrossSection cs : {PlyCrossSection::elliptical, PlyCrossSection::circular}) {
         PlyTraceOptions o;
         o.cross_section = cs;
-        const PlyHit imp = trace_plies(y.frames, d, h, o);
+        const PlyHit imp = trace(y.frames, d, h, o);
         EXPECT_TRUE(finite(imp));
         EXPECT_FALSE(imp.hit);
     }
     // A hit point well off the tube (a sloppy caller) still gives a finite answer.
     h.direction = normalize(Vec3(-1, 0.2f, 0.3f));
     h.point = Vec3(3, 0, 10);
-    EXPECT_TRUE(finite(trace_plies(y.frames, d, h)));
+    EXPECT_TRUE(finite(trace(y.frames, d, h)));
 }
 
 TEST(ImplicitPlies, ScaleFree) {
@@ -178,8 +188,8 @@ TEST(ImplicitPlies, ScaleFree) {
     const StraightYarn big(1.0f), small(1e-3f);
     const YarnDescription d = touching_plies(5);
     for (float offset : {-0.7f, 0.2f, 0.6f}) {
-        const PlyHit a = trace_plies(big.frames, d, side_hit(big.frames, offset, 0.9f, 20.2f));
-        const PlyHit b = trace_plies(small.frames, d, side_hit(small.frames, offset * 1e-3f, 0.9f, 20.2e-3f, 1e-3f));
+        const PlyHit a = trace(big.frames, d, side_hit(big.frames, offset, 0.9f, 20.2f));
+        const PlyHit b = trace(small.frames, d, side_hit(small.frames, offset * 1e-3f, 0.9f, 20.2e-3f, 1e-3f));
         ASSERT_EQ(a.hit, b.hit);
         if (!a.hit) continue;
         EXPECT_EQ(a.ply, b.ply);
@@ -284,14 +294,15 @@ TEST(ImplicitPlies, ModelMarginNeverChangesTheResult) {
                     const YarnTubeHit h{origin, dir, entry.point, entry.segment, entry.t};
                     PlyTraceOptions exact;
                     exact.model_margin = 1;
-                    const PlyHit a = trace_plies(frames, d, h), b = trace_plies(frames, d, h, exact);
-                    model_evaluations += a.iterations;
-                    exact_evaluations += b.iterations;
+                    PlySearchStats spent_a, spent_b;
+                    const PlyHit a = trace(frames, d, h, {}, &spent_a), b = trace(frames, d, h, exact, &spent_b);
+                    model_evaluations += spent_a.evaluations;
+                    exact_evaluations += spent_b.evaluations;
                     ASSERT_EQ(a.hit, b.hit) << bend << " " << plies << " " << view << " " << i;
                     EXPECT_EQ(a.ply, b.ply);
                     EXPECT_EQ(a.plies_crossed, b.plies_crossed);
                     EXPECT_LT(length(a.point - b.point), 1e-4f);
-                    EXPECT_EQ(a.converged, b.converged);
+                    EXPECT_EQ(spent_a.converged, spent_b.converged);
                 }
             }
             EXPECT_LT(model_evaluations, exact_evaluations) << bend << " " << plies;
@@ -305,6 +316,8 @@ TEST(ImplicitPlies, LocalMethodAroundANeighbouringCrossSectionMatchesTheExactOne
     const StraightYarn y;
     const YarnDescription d = touching_plies(3);
     const YarnTwist tw = yarn_twist(y.frames, d);
+    PlyTraceOptions local_method;
+    local_method.cross_section = PlyCrossSection::local;
     int hits = 0;
     for (float psi : {0.0f, 0.6f, 1.1f})
         for (float h : {-0.8f, -0.3f, 0.1f, 0.55f, 0.9f})
@@ -312,8 +325,8 @@ TEST(ImplicitPlies, LocalMethodAroundANeighbouringCrossSectionMatchesTheExactOne
                 const YarnTubeHit hit = side_hit(y.frames, h, psi, 20.0f);
                 const CentrelineProjection around =
                     project_to_centreline(y.frames, hit.point + Vec3(0, 0, shift), hit.segment, hit.t);
-                const PlyHit exact = trace_plies(y.frames, d, tw, hit);
-                const PlyHit local = trace_plies_local(y.frames, d, tw, hit, around);
+                const PlyHit exact = trace_plies({y.frames, d, tw, hit});
+                const PlyHit local = trace_plies({y.frames, d, tw, hit, &around}, local_method);
                 ASSERT_EQ(local.hit, exact.hit) << psi << " " << h << " " << shift;
                 if (!exact.hit) continue;
                 ++hits;

@@ -27,16 +27,6 @@ inline ImageRGB combined_rgb(const RenderResult& r) {
     return out;
 }
 
-// Half-float, zip-compressed: references stay small in the repository.
-inline void write_rgb_exr(const std::string& path, const ImageRGB& image) {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out) << path;
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-    spec.attribute("compression", "zip");
-    ASSERT_TRUE(out->open(path, spec)) << out->geterror();
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data())) << out->geterror();
-    out->close();
-}
 
 // sqrt(mean((a - b)^2)) / mean(b) over the RGB of block x block block means.
 inline double block_relative_rmse(const ImageRGB& a, const ImageRGB& b, int block) {
