@@ -83,8 +83,10 @@ def test_look_dev_loop_in_a_window(tmp_path):
     assert after[2] / max(after[0], 1e-6) > 1.5 * before[2] / max(before[0], 1e-6), (before, after)
     shot_before, shot_after = np.array(result["screenshot_rgb_before"]), np.array(result["screenshot_rgb_after"])
     assert shot_after[2] - shot_after[0] > shot_before[2] - shot_before[0] + 0.002, (shot_before, shot_after)
-    # F12 with 4 samples shows its passes (1, 1, 2 samples, or 1 each when passes are slow) as
-    # they finish, the last when the render ends.
+    # F12 with 4 samples shows its passes (1, 1, 2 samples) as they finish, the last when the render
+    # ends; a pass in between is skipped when showing it would cost more than a quarter of the time
+    # since the last (engine.py), which a loaded machine can make happen, so only the first and the
+    # last are certain.
     passes = result["f12_pass_seconds"]
-    assert len(passes) >= 3 and passes[-1] <= result["f12_seconds"], passes
+    assert len(passes) >= 2 and passes[-1] <= result["f12_seconds"], passes
     assert passes[0] < 0.7 * result["f12_seconds"], "the first pass shows long before the end"
