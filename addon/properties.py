@@ -6,23 +6,49 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        IntProperty, PointerProperty, StringProperty)
 
-from . import parameters
+from . import native, parameters
 
 BLENDER_FLOAT_LIMIT = 3.0e38  # FloatProperty rejects infinite bounds
 
-MODE_ITEMS = [
-    ("AUTO", "Auto", "Pick near, multi or far scale from the yarn's pixel coverage"),
-    ("NEAR", "Near", "Always shade plies and fibers individually"),
-    ("MULTI", "Multi", "Average the yarn over the part a pixel covers (near where it covers one fiber)"),
-    ("FAR", "Far", "Average the whole yarn width (for yarns thinner than a pixel)"),
-]
+def _registry_list(key):
+    """One list of the native registry (purlcore.choices(), native/src/base/registry.h), or None."""
+    core = native.purlcore()
+    if core is None or not hasattr(core, "choices"):
+        return None
+    return core.choices().get(key)
 
-PLY_METHOD_ITEMS = [
-    ("ELLIPTICAL", "Elliptical", "Exact ply search along the ray (the default)"),
-    ("LOCAL", "Local", "The yarn straightened at each hit: about a fifth faster, exact on straight yarns, "
-                       "drifts on tight bends"),
-    ("CIRCULAR", "Circular", "The older perpendicular cross-section: fastest, for comparison only"),
-]
+
+def choice_items(key):
+    """EnumProperty items of a native choice list, identifiers in upper case. Blender stores an enum
+    by its position, so the default comes first and the rest follow in the registry's order: the
+    order saved files have always used."""
+    entry = _registry_list(key)
+    if entry is None:
+        return [("NONE", "None", "purlcore is not loaded")]
+    ordered = sorted(entry["choices"], key=lambda c: c["name"] != entry["default"])
+    return [(c["name"].upper(), c["label"], c["doc"]) for c in ordered]
+
+
+def render_setting(name):
+    """The native declaration of one render setting (purlcore.render_settings()), or None."""
+    core = native.purlcore()
+    if core is None or not hasattr(core, "render_settings"):
+        return None
+    return next((s for s in core.render_settings() if s["name"] == name), None)
+
+
+def _setting_limits(name, whole):
+    """min, max, default and description of a render setting as bpy.props arguments ({} without purlcore)."""
+    s = render_setting(name)
+    if s is None:
+        return {}
+    number = int if whole else float
+    return dict(min=number(s["min"]), max=number(min(s["max"], BLENDER_FLOAT_LIMIT)),
+                default=number(s["default"]), description=s["doc"])
+
+
+MODE_ITEMS = choice_items("render.multiscale.mode")
+PLY_METHOD_ITEMS = choice_items("render.ply_method")
 
 # Units of the native declaration -> (Blender subtype, Blender unit).
 _UNIT_SUBTYPES = {
@@ -87,19 +113,22 @@ def make_property(parameter, update=None):
 
 
 SIGN_SUFFIX = "_choice"  # the Left/Right menu shown for a sign parameter (is_sign)
-SIGN_ITEMS = [("S", "Left (S)", "S twist: turns like the middle of the letter S (left-handed), stored as -1"),
-              ("Z", "Right (Z)", "Z twist: turns like the middle of the letter Z (right-handed), stored as +1")]
+# The Left/Right choice of a sign parameter: the native twist directions, S (-1) then Z (+1).
+_TWIST = (_registry_list("handedness") or {"choices": []})["choices"]
+SIGN_ITEMS = [(c["name"], c["label"], c["doc"]) for c in _TWIST]
 
 
 def _sign_choice(parameter):
     """A Left/Right menu over a parameter stored as -1 or +1."""
     name = parameter["name"]
+    values = [float(c["value"]) for c in _TWIST]
 
     def get(self):
-        return 1 if getattr(self, name) >= 0 else 0
+        value = 1.0 if getattr(self, name) >= 0 else -1.0
+        return values.index(value) if value in values else 0
 
     def set(self, index):
-        setattr(self, name, 1.0 if index == 1 else -1.0)
+        setattr(self, name, values[index])
 
     return EnumProperty(name=parameters.label(parameter), items=SIGN_ITEMS, get=get, set=set,
                         description=_tooltip(parameter))
@@ -144,28 +173,22 @@ def _set_model_index(self, index):
 
 
 class PurlSceneSettings(bpy.types.PropertyGroup):
-    samples: IntProperty(name="Samples", description="Samples per pixel", default=64, min=1,
-                         soft_max=4096)
+    # Ranges, defaults and tooltips of the render settings come from the native registry.
+    samples: IntProperty(name="Samples", soft_max=4096, **_setting_limits("spp", True))
     preview_samples: IntProperty(name="Viewport Samples", default=32, min=1, soft_max=1024, update=tag_owner,
                                  description="Samples per pixel of the rendered viewport (rendered in passes "
                                              "of 1, 2, 4, ... samples after a coarse first image)")
-    seed: IntProperty(name="Seed", description="The image is a function of scene, seed and samples",
-                      default=0, min=0, update=tag_owner)
+    seed: IntProperty(name="Seed", update=tag_owner, **_setting_limits("seed", True))
     use_animated_seed: BoolProperty(name="Animated Seed", default=False,
                                     description="Add the frame number to the seed, so noise changes per frame")
-    max_depth: IntProperty(name="Max Bounces", description="Path length limit", default=8, min=1,
-                           max=1024, update=tag_owner)
-    clamp: FloatProperty(name="Clamp", description="Clamp sample radiance (0 turns clamping off)",
-                         default=0.0, min=0.0, update=tag_owner)
-    multiscale_mode: EnumProperty(name="Scale", items=MODE_ITEMS, default="AUTO", update=tag_owner,
+    max_depth: IntProperty(name="Max Bounces", update=tag_owner, **_setting_limits("max_depth", True))
+    clamp: FloatProperty(name="Clamp", update=tag_owner, **_setting_limits("clamp", False))
+    multiscale_mode: EnumProperty(name="Scale", items=MODE_ITEMS, update=tag_owner,
                                   description="Which scale of the multi-scale BYSDF shades camera hits "
                                               "(docs/multiscale.md); bounces are always shaded near")
-    ply_method: EnumProperty(name="Ply Search", items=PLY_METHOD_ITEMS, default="ELLIPTICAL", update=tag_owner,
+    ply_method: EnumProperty(name="Ply Search", items=PLY_METHOD_ITEMS, update=tag_owner,
                              description="How BYSDF yarns find the ply under a hit (docs/implicit-geometry.md)")
-    filter_glossy: FloatProperty(
-        name="Filter Glossy", default=1.0, min=0.0, soft_max=10.0, update=tag_owner,
-        description="As in Cycles: after a diffuse-like bounce, glossy lobes are blurred by this much, which "
-                    "removes most fireflies at a small bias in indirect highlights (0: off)")
+    filter_glossy: FloatProperty(name="Filter Glossy", update=tag_owner, **_setting_limits("filter_glossy", False))
     use_denoise: BoolProperty(
         name="Denoise", default=False,
         description="Denoise the image with Intel Open Image Denoise after the last sample, guided by the "

@@ -1,6 +1,7 @@
-"""Writes docs/parameters.md from the native parameter tables (purlcore.material_parameters).
+"""Writes docs/parameters.md from the native parameter tables (purlcore.material_parameters,
+render_settings, choices: native/src/base/registry.h).
 
-Run after changing a ParamInfo table; tests/python/test_docs.py fails while the file is stale.
+Run after changing a ParamInfo table or the registry; tests/python/test_docs.py fails while the file is stale.
 """
 import os
 import sys
@@ -10,7 +11,7 @@ DOC = os.path.join(HERE, "..", "docs", "parameters.md")
 
 
 def table(rows):
-    lines = ["| name | Blender label | unit | components | range | default | meaning |",
+    lines = ["| name | Blender label | unit | kind | range | default | meaning |",
              "|---|---|---|---|---|---|---|"]
     for p in rows:
         default = p["default"]
@@ -19,10 +20,14 @@ def table(rows):
         else:
             default = f"{default:g}"
         unit = p["unit"] or "—"
-        kind = "colour" if p["is_color"] else "±1" if p.get("is_sign") else str(p["components"])
+        kind = ("colour" if p["is_color"] else "±1" if p.get("is_sign") else "whole" if p.get("is_integer")
+                else "choice" if p.get("kind") == "enum" else str(p["components"]))
+        if p.get("kind") == "enum" and not p.get("is_sign"):
+            default = "`{}`".format(p["default_name"])
         label = p.get("label") or "—"
-        lines.append(f"| `{p['name']}` | {label} | {unit} | {kind} | {p['min']:g} … {p['max']:g} | {default} | "
-                     f"{p['doc']} |")
+        limits = ", ".join(f"`{c['name']}`" for c in p["choices"]) if p.get("choices") and not p.get("is_sign") \
+            else f"{int(p['min'])} … {int(p['max'])}" if p.get("is_integer") else f"{p['min']:g} … {p['max']:g}"
+        lines.append(f"| `{p['name']}` | {label} | {unit} | {kind} | {limits} | {default} | {p['doc']} |")
     return lines + [""]
 
 
@@ -55,7 +60,19 @@ def render_markdown(purlcore):
         "`aggregation` (`mixture`, default, or `aggregate`). See docs/multiscale.md.",
         "",
     ] + table(purlcore.multiscale_parameters())
-    return "\n".join(lines)
+    lines += [
+        "## Render settings (`render`)",
+        "",
+        "Also `denoise` (true/false, default false), `multiscale` (above) and `explicit`. The `purl render` "
+        "options of the same names check the same ranges.",
+        "",
+    ] + table(purlcore.render_settings())
+    lines += ["## Choices", "", "| key | value | label | meaning |", "|---|---|---|---|"]
+    for key, entry in purlcore.choices().items():
+        for c in entry["choices"]:
+            mark = " (default)" if c["name"] == entry["default"] else ""
+            lines.append(f"| `{key}` | `{c['name']}`{mark} | {c['label']} | {c['doc']} |")
+    return "\n".join(lines + [""])
 
 
 def main():

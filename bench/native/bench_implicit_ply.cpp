@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "math/rng.h"
-#include "yarn/explicit_plies.h"
-#include "yarn/ply_validation.h"
+#include "reference/explicit_plies.h"
+#include "reference/ply_validation.h"
 #include "yarn/yarn_shading_point.h"
 #include "yarn/yarn_tube.h"
 

@@ -26,7 +26,7 @@
 #include "math/rng.h"
 #include "math/sampling.h"
 #include "render/multiscale.h"
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 #include "yarn/yarn_shading_point.h"
 
 namespace purl {

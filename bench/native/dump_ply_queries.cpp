@@ -25,9 +25,9 @@
 #include "render/camera.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
-#include "yarn/explicit_plies.h"
+#include "reference/explicit_plies.h"
 #include "yarn/implicit_plies.h"
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {

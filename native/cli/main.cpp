@@ -11,6 +11,8 @@
 #include <thread>
 #include <unistd.h>
 
+#include "base/input_error.h"
+#include "base/registry.h"
 #include "fit/fit_command.h"
 #include "io/image_io.h"
 #include "reference/explicit_export.h"
@@ -18,7 +20,6 @@
 #include "render/denoise.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
-#include "scene/input_error.h"
 #include "scene/scene_files.h"
 #include "scene/scene_json.h"
 #include "scene/swatch.h"
@@ -114,7 +115,9 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (seed >= 0) scene.render.seed = static_cast<uint64_t>(seed);
     if (!model.empty()) scene.render.model = parse_yarn_model(model, "--model");
     if (!multiscale_mode.empty()) scene.render.multiscale.mode = *parse_multiscale_mode(multiscale_mode);
-    if (!integrator.empty()) scene.render.trace_only = integrator == "trace";
+    if (!integrator.empty())
+        scene.render.trace_only = parse_choice(integrators(), integrator, "--integrator", "") ==
+                                  find_choice(integrators(), "trace")->value;
     if (!ply_method.empty()) scene.render.ply_method = parse_ply_method(ply_method, "--ply-method");
     if (denoise) scene.render.denoise = true;
     if (scene.render.denoise) Denoiser::load();  // a missing OIDN is reported before the scene is built
@@ -207,27 +210,38 @@ int main(int argc, char** argv) {
     render->add_option("scene", scene_path, "scene file (JSON)")->required();
     render->add_option("-o,--output", output, "output image (.exr: multilayer passes, .png: sRGB)")->required();
     render->add_option("--png", png, "also write an sRGB PNG here");
-    render->add_option("--spp", spp, "samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
-    render->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
-    render->add_option("--seed", seed, "random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));
-    render->add_option("--model", model, "yarn model: bysdf (implicit plies), ply or fiber (explicit references)")
-        ->check(CLI::IsMember({"bysdf", "ply", "fiber"}));
+    // Ranges, names and help of the render settings come from base/registry.h.
+    const auto range = [](const char* name) {
+        const ParamInfo& s = render_setting(name);
+        return CLI::Range(s.min_value, s.max_value);
+    };
+    const auto help = [](const char* name, const char* what) {
+        return std::string(render_setting(name).doc) + " " + what;
+    };
+    const auto one_of = [](const ChoiceList& list, const char* what) {
+        std::string text = what;
+        for (const Choice& c : list.choices) text += std::string("\n  ") + c.name + ": " + c.doc;
+        return text;
+    };
+    render->add_option("--spp", spp, help("spp", "(overrides the scene)"))->check(range("spp"));
+    render->add_option("--threads", threads, render_setting("threads").doc)->check(range("threads"));
+    render->add_option("--seed", seed, help("seed", "(overrides the scene)"))->check(range("seed"));
+    render->add_option("--model", model, one_of(yarn_models(), "yarn model (overrides the scene):"))
+        ->check(CLI::IsMember(choice_names(yarn_models())));
     render->add_flag("--stats", stats, "print timing, ray and memory figures");
     std::string integrator;
-    render->add_option("--integrator", integrator,
-                       "path (default) or trace: camera rays only, constant shading (benchmark baseline)")
-        ->check(CLI::IsMember({"path", "trace"}));
+    render->add_option("--integrator", integrator, one_of(integrators(), "integrator (overrides the scene):"))
+        ->check(CLI::IsMember(choice_names(integrators())));
 
     std::string multiscale_mode;
     render->add_option("--mode", multiscale_mode,
-                       "multi-scale shading of camera hits on BYSDF yarns: near, multi, far or auto "
-                       "(overrides the scene; docs/multiscale.md)")
-        ->check(CLI::IsMember({"near", "multi", "far", "auto"}));
+                       one_of(multiscale_modes(), "multi-scale shading of camera hits on BYSDF yarns (overrides the "
+                                                  "scene; docs/multiscale.md):"))
+        ->check(CLI::IsMember(choice_names(multiscale_modes())));
     std::string ply_method;
     render->add_option("--ply-method", ply_method,
-                       "how BYSDF yarns find the ply under a hit: elliptical (exact), local (faster, exact on "
-                       "straight yarns) or circular (comparison only); overrides the scene")
-        ->check(CLI::IsMember(ply_method_names()));
+                       one_of(ply_methods(), "how BYSDF yarns find the ply under a hit (overrides the scene):"))
+        ->check(CLI::IsMember(choice_names(ply_methods())));
 
     bool denoise = false;
     render->add_flag("--denoise", denoise,

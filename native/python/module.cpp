@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <optional>
 
+#include "base/input_error.h"
+#include "base/registry.h"
 #include "bsdf/artist_params.h"
 #include "bsdf/bysdf_params.h"
 #include "bsdf/fiber_bcsdf_params.h"
@@ -24,7 +26,7 @@
 #include "render/denoise.h"
 #include "render/renderer.h"
 #include "scene/bcc.h"
-#include "scene/input_error.h"
+
 #include "scene/scene_json.h"
 
 namespace py = pybind11;
@@ -56,10 +58,24 @@ SceneDesc build_scene(const py::object& scene, const py::object& arrays, const s
     if (model) desc.render.model = parse_yarn_model(*model, "model");
     if (mode) {  // multi-scale mode of camera hits on BYSDF yarns
         const std::optional<MultiscaleMode> m = parse_multiscale_mode(*mode);
-        if (!m) throw py::value_error("mode must be 'near', 'multi', 'far' or 'auto', not '" + *mode + "'");
+        if (!m) throw py::value_error("mode must be " + choice_names_text(multiscale_modes()) + ", not '" + *mode + "'");
         desc.render.multiscale.mode = *m;
     }
     return desc;
+}
+
+// [{name, label, doc, value}] of one list of base/registry.h.
+py::list describe_choices(const ChoiceList& list) {
+    py::list out;
+    for (const Choice& c : list.choices) {
+        py::dict d;
+        d["name"] = c.name;
+        d["label"] = c.label;
+        d["doc"] = c.doc;
+        d["value"] = c.value;
+        out.append(d);
+    }
+    return out;
 }
 
 py::list describe_parameters(const std::vector<ParamInfo>& table) {
@@ -75,8 +91,13 @@ py::list describe_parameters(const std::vector<ParamInfo>& table) {
         else d["default"] = py::make_tuple(p.default_value[0], p.default_value[1], p.default_value[2]);
         d["doc"] = p.doc;
         d["is_color"] = p.is_color;
-        d["is_integer"] = p.is_integer;
-        d["is_sign"] = p.is_sign;
+        d["is_integer"] = p.is_integer();
+        d["is_sign"] = p.is_sign();
+        d["kind"] = p.kind == ParamKind::Integer ? "integer" : p.kind == ParamKind::Enum ? "enum" : "float";
+        if (p.choices) {
+            d["choices"] = describe_choices(*p.choices);
+            d["default_name"] = choice_name(*p.choices, p.default_value[0]);
+        }
         d["label"] = p.label ? py::object(py::str(p.label)) : py::object(py::none());
         out.append(d);
     }
@@ -387,17 +408,32 @@ PYBIND11_MODULE(purlcore, m) {
         },
         "(done, total) view angles of the far-field tables being tabulated in this process, (0, 0) when none: "
         "a render waiting for its table shows this instead of a stalled progress.");
-    m.def("material_models", [] { return std::vector<std::string>{"bysdf", "placeholder", "fiber"}; });
+    m.def("material_models", [] { return choice_names(material_models()); });
     m.def(
         "material_model_labels",
         [] {
             py::dict d;  // what an artist reads in the model menu
-            d["bysdf"] = "Yarn (plies and fibers)";
-            d["placeholder"] = "Simple (diffuse + gloss)";
-            d["fiber"] = "Single fibers";
+            for (const Choice& c : material_models().choices) d[c.name] = c.label;
             return d;
         },
         "Display names of the material models.");
+    m.def("render_settings", [] { return describe_parameters(render_settings()); },
+          "The render settings of a scene's \"render\" object (spp, seed, max_depth, threads, clamp, filter_glossy, "
+          "model, integrator, ply_method) with kind, range, default, doc, UI label and, for choices, their values.");
+    m.def(
+        "choices",
+        [] {
+            py::dict d;
+            for (const ChoiceList* list : all_choice_lists()) {
+                py::dict entry;
+                entry["choices"] = describe_choices(*list);
+                entry["default"] = list->default_name;
+                d[list->key] = entry;
+            }
+            return d;
+        },
+        "Every named choice (render.model, render.ply_method, render.multiscale.mode, ...): "
+        "{key: {choices: [{name, label, doc, value}], default}}.");
     m.def("artist_parameters", [] { return describe_parameters(artist_param_table()); },
           "The artist controls of the bysdf model (yarn colour, sheen, softness, translucency); each doc states "
           "the rule that maps it onto the BYSDF parameters (docs/artist-controls.md).");
@@ -450,8 +486,8 @@ PYBIND11_MODULE(purlcore, m) {
             write_rgb_exr(path, image);
         },
         py::arg("path"), py::arg("rgb"), "Linear RGB (H, W, 3) as a half-float, zip-compressed EXR.");
-    m.def("multiscale_modes", [] { return std::vector<std::string>{"near", "multi", "far", "auto"}; });
-    m.def("ply_methods", &ply_method_names,
+    m.def("multiscale_modes", [] { return choice_names(multiscale_modes()); });
+    m.def("ply_methods", [] { return choice_names(ply_methods()); },
           "Values of render.ply_method: how BYSDF yarns find the ply under a hit.");
     m.def("yarn_presets", &yarn_preset_names, "Names accepted by material.yarn.preset.");
     m.def(

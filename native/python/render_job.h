@@ -16,7 +16,7 @@
 #include "io/image_io.h"
 #include "render/denoise.h"
 #include "render/renderer.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl::python {
 

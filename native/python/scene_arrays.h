@@ -12,7 +12,7 @@
 
 #include "scene/bcc.h"
 #include "scene/curve_arrays.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene.h"
 #include "scene/yarn_spacing.h"
 

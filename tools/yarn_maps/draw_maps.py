@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Draws the implicit-geometry validation maps (docs/images/*.png).
 
-Builds tools/yarn_maps/yarn_maps.cpp together with native/src/yarn/**/*.cpp (plain g++, no
-CMake needed), runs it, and plots with matplotlib:
+Builds tools/yarn_maps/yarn_maps.cpp together with native/src/{base,yarn}/**/*.cpp and the ply
+validation of native/src/reference/ (plain g++, no CMake needed), runs it, and plots with
+matplotlib:
 
   implicit-plies-tangents.png   Fig. 3-style tangent maps: explicit, elliptical, circular, errors
   implicit-plies-accuracy.png   hit/miss agreement and tangent error against the view angle
@@ -27,7 +28,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 def build(work: pathlib.Path) -> pathlib.Path:
     exe = work / "yarn_maps"
-    sources = sorted(str(p) for p in (ROOT / "native/src/yarn").rglob("*.cpp"))  # plies/ included
+    sources = sorted(str(p) for folder in ("base", "yarn") for p in (ROOT / "native/src" / folder).rglob("*.cpp"))
+    sources += [str(ROOT / "native/src/reference" / name) for name in ("explicit_plies.cpp", "ply_validation.cpp")]
     cmd = ["g++", "-O2", "-std=c++17", "-I", str(ROOT / "native/src"), *sources,
            str(ROOT / "tools/yarn_maps/yarn_maps.cpp"), "-o", str(exe)]
     subprocess.run(cmd, check=True)

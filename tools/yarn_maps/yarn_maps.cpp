@@ -12,7 +12,7 @@
 
 #include "yarn/fiber_maps.h"
 #include "yarn/ply_cross_section.h"
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bsdf/bysdf_params.h"
-#include "bsdf/params.h"
+#include "base/param_info.h"
 #include "math/vec.h"
 
 namespace purl {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "base/registry.h"
 #include "bsdf/fresnel.h"
 #include "bsdf/lommel_seeliger.h"
 #include "math/sampling.h"
@@ -38,7 +39,7 @@ bool transmission_half_vector(Vec3 wo, Vec3 wi, float eta, Vec3& h, float& cos_o
 Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
     reflection_ggx_ = {clamp_alpha(p.specular_roughness_along), clamp_alpha(p.specular_roughness_across)};
     transmission_ggx_ = {clamp_alpha(p.transmission_roughness), clamp_alpha(p.transmission_roughness)};
-    eta_ = clamp(p.eta, 1.001f, 4.0f);
+    eta_ = clamp(p.eta, kFiberEta.min, kFiberEta.max);  // the table's range (base/registry.h)
     if (!(eta_ > 0)) eta_ = 1.5f;  // NaN
 
     const float body = clamp01(p.body_share);

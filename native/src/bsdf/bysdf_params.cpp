@@ -4,8 +4,9 @@
 #include <cmath>
 #include <cstddef>
 
+#include "base/input_error.h"
+#include "base/registry.h"
 #include "math/number_text.h"
-#include "scene/input_error.h"
 
 namespace purl {
 namespace {
@@ -23,7 +24,7 @@ std::vector<ParamInfo> build_table() {
     // units: its extinction 5.5 and 0.1 per scene unit at yarn radius 2 are 11 and 0.2 per R.
     const Vec3 body_x(0.045f, 0.015f, 0.0f);
     std::vector<ParamInfo> t = {
-        scalar("Fiber IOR", "eta", "", 1.05f, 3.0f, 1.5f,
+        scalar("Fiber IOR", "eta", "", kFiberEta.min, kFiberEta.max, 1.5f,
                "Refractive index of the fiber material relative to air.", offsetof(BysdfParams, eta)),
         scalar("Roughness Along", "specular_roughness_along", "", 0.001f, 1.0f, 0.2f,
                "GGX alpha of the specular reflection f_x^S along the fiber tangent.",
@@ -74,12 +75,12 @@ std::vector<ParamInfo> build_table() {
         "How light crosses the other plies: 0 the paper's tau^N_i over the yarn chord and the G_p map, "
         "1 traced through the implicit plies on the way out (their extinction and transmission albedo).",
         offsetof(BysdfParams, ply_crossing));
-    ply_crossing.is_integer = true;
+    ply_crossing.kind = ParamKind::Integer;
     t.push_back(ply_crossing);
     ParamInfo ply_color_count = scalar("Ply Colours", "ply_color_count", "", 1.0f, float(kMaxPlyColors), 1.0f,
                                        "Number of ply colours in use; ply i takes ply colour (i mod count) + 1.",
                                        offsetof(BysdfParams, ply_color_count));
-    ply_color_count.is_integer = true;
+    ply_color_count.kind = ParamKind::Integer;
     t.push_back(ply_color_count);
     // String literals keep the names alive for the table's lifetime.
     static const char* const names[kMaxPlyColors] = {
@@ -128,7 +129,7 @@ void check_bysdf_params(const BysdfParams& p, const std::string& file, const std
                                  "value " + number_text(v[c]) + " outside [" +
                                      number_text(info.min_value) + ", " + number_text(info.max_value) + "]");
         }
-        if (info.is_integer && v[0] != std::floor(v[0]))
+        if (info.is_integer() && v[0] != std::floor(v[0]))
             throw InputError(file, place + "." + info.name, "must be a whole number");
     }
 }

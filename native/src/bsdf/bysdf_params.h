@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "bsdf/params.h"
+#include "base/param_info.h"
 #include "math/vec.h"
 
 namespace purl {

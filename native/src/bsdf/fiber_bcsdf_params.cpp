@@ -3,7 +3,7 @@
 #include <cstddef>
 
 #include "math/number_text.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

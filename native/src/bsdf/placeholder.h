@@ -15,7 +15,7 @@
 #include "bsdf/bsdf_sample.h"
 #include "bsdf/fresnel.h"
 #include "bsdf/ggx.h"
-#include "bsdf/params.h"
+#include "base/param_info.h"
 #include "math/sampling.h"
 
 namespace purl {

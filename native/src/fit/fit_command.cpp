@@ -5,7 +5,7 @@
 
 #include "fit/fitter.h"
 #include "fit/preset_file.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

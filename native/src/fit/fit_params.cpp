@@ -5,7 +5,7 @@
 #include <set>
 #include <utility>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "render/renderer.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "bsdf/fiber_bcsdf_params.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {

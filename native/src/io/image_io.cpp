@@ -14,7 +14,7 @@
 #include <functional>
 #include <stdexcept>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

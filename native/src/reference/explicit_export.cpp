@@ -3,7 +3,7 @@
 #include <fstream>
 
 #include "scene/bcc.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

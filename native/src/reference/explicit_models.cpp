@@ -4,7 +4,7 @@
 
 #include "reference/fiber_curves.h"
 #include "reference/ply_curves.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

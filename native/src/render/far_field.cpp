@@ -14,7 +14,7 @@
 
 #include "math/rng.h"
 #include "render/multiscale.h"
-#include "yarn/ply_validation.h"
+#include "yarn/straight_yarn.h"
 
 namespace purl {
 namespace {
@@ -91,7 +91,7 @@ FarFieldTable::FarFieldTable(const YarnDescription& d, const BysdfParams& materi
     distributions_.resize(kThetaO * 2);
 
     // A straight yarn of radius 1 along +z; queries land in its middle third.
-    const std::vector<Vec4> points = validation_curve(0.0f);
+    const std::vector<Vec4> points = straight_yarn_points();
     const CurveFrames frames(CurveView::chain(points.data(), static_cast<uint32_t>(points.size()), false));
     const FiberMaps maps(d);
     const BysdfParams markers = marker_params(material);

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "math/ray_cylinder.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "yarn/ply_crossings.h"
 #include "yarn/yarn_shading_point.h"
 

@@ -22,7 +22,7 @@
 #include "render/path_regularization.h"
 #include "render/render_origin.h"
 #include "render/shading.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

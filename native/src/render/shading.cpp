@@ -9,7 +9,7 @@
 #include "math/bspline.h"
 #include "math/ray_spawn.h"
 #include "reference/explicit_sampling.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "yarn/yarn_shading_point.h"
 #include "yarn/yarn_tube.h"
 

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

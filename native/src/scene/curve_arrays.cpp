@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

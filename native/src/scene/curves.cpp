@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "math/number_text.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

@@ -9,7 +9,7 @@
 
 #include "math/number_text.h"
 #include "math/transform.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

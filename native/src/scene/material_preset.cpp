@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/json_reader.h"
 
 #ifndef PURL_PRESET_DIR

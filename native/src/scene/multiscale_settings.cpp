@@ -3,8 +3,9 @@
 #include <cmath>
 #include <cstddef>
 
+#include "base/input_error.h"
+#include "base/registry.h"
 #include "math/number_text.h"
-#include "scene/input_error.h"
 
 namespace purl {
 namespace {
@@ -62,30 +63,25 @@ void check_multiscale_settings(const MultiscaleSettings& s, const std::string& f
         throw InputError(file, place + ".multiscale_max_h_samples", "must be a whole number");
 }
 
+// Names and order come from base/registry.h, whose values are these enums'.
 const char* multiscale_mode_name(MultiscaleMode mode) {
-    switch (mode) {
-        case MultiscaleMode::Near: return "near";
-        case MultiscaleMode::Multi: return "multi";
-        case MultiscaleMode::Far: return "far";
-        case MultiscaleMode::Auto: return "auto";
-    }
-    return "auto";
+    return choice_name(multiscale_modes(), float(mode));
 }
 
 std::optional<MultiscaleMode> parse_multiscale_mode(const std::string& name) {
-    for (MultiscaleMode m : {MultiscaleMode::Near, MultiscaleMode::Multi, MultiscaleMode::Far, MultiscaleMode::Auto})
-        if (name == multiscale_mode_name(m)) return m;
-    return std::nullopt;
+    const Choice* c = find_choice(multiscale_modes(), name);
+    if (!c) return std::nullopt;
+    return static_cast<MultiscaleMode>(c->value);
 }
 
 const char* multiscale_aggregation_name(MultiscaleAggregation a) {
-    return a == MultiscaleAggregation::Aggregate ? "aggregate" : "mixture";
+    return choice_name(multiscale_aggregations(), float(a));
 }
 
 std::optional<MultiscaleAggregation> parse_multiscale_aggregation(const std::string& name) {
-    if (name == "mixture") return MultiscaleAggregation::Mixture;
-    if (name == "aggregate") return MultiscaleAggregation::Aggregate;
-    return std::nullopt;
+    const Choice* c = find_choice(multiscale_aggregations(), name);
+    if (!c) return std::nullopt;
+    return static_cast<MultiscaleAggregation>(c->value);
 }
 
 }  // namespace purl

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bsdf/params.h"
+#include "base/param_info.h"
 
 namespace purl {
 

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <vector>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "base/registry.h"
 #include "bsdf/bysdf_params.h"
 #include "bsdf/fiber_bcsdf_params.h"
 #include "bsdf/placeholder.h"
@@ -11,12 +12,16 @@
 #include "scene/curves.h"
 #include "scene/explicit_options.h"
 #include "scene/multiscale_settings.h"
-#include "yarn/implicit_plies.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {
 
 enum class SensorFit { Auto, Horizontal, Vertical };
+
+// How yarns are represented: implicit plies and fibers (the BYSDF), or the explicit
+// references generated from the same curves and description (reference/explicit_models.h).
+// Named, in this order, by yarn_models() (base/registry.h).
+enum class YarnModel { Bysdf, Ply, Fiber };
 
 struct CameraDesc {
     Transform to_world;          // camera looks down its local -Z, +Y up (Blender)
@@ -34,10 +39,7 @@ struct FilmDesc {
     bool transparent = false;
 };
 
-// How yarns are represented: implicit plies and fibers (the BYSDF), or the explicit
-// references generated from the same curves and description (reference/explicit_models.h).
-enum class YarnModel { Bysdf, Ply, Fiber };
-
+// Defaults as declared in render_settings() (base/registry.h; test_registry keeps them equal).
 struct RenderSettings {
     int spp = 64;
     // Renders samples first_sample .. first_sample + spp - 1 of every pixel, so renders of

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

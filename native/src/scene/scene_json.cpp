@@ -6,8 +6,9 @@
 #include <optional>
 #include <sstream>
 
+#include "base/param_info.h"
+#include "base/registry.h"
 #include "bsdf/artist_params.h"
-#include "bsdf/params.h"
 #include "scene/bcc.h"
 #include "scene/json_reader.h"
 #include "scene/material_preset.h"
@@ -91,19 +92,33 @@ void read_explicit_options(JsonObject o, ExplicitOptions& e) {
     o.finish();
 }
 
+// A render setting of base/registry.h: its range and default from the table.
+int read_setting_integer(JsonObject& o, const char* name) {
+    const ParamInfo& s = render_setting(name);
+    return o.integer(name, int(s.default_value[0]), int(s.min_value), int(s.max_value));
+}
+float read_setting_number(JsonObject& o, const char* name) {
+    const ParamInfo& s = render_setting(name);
+    return o.number(name, s.default_value[0], float(s.min_value), float(s.max_value));
+}
+float read_setting_choice(JsonObject& o, const char* name) {
+    const ChoiceList& list = *render_setting(name).choices;
+    return find_choice(list, o.choice(name, list.default_name, choice_names(list)))->value;
+}
+
 void read_render(JsonObject o, RenderSettings& r) {
-    r.spp = o.integer("spp", r.spp, 1, 1 << 20);
-    r.seed = static_cast<uint64_t>(o.integer("seed", 0, 0, 2147483647));
-    r.max_depth = o.integer("max_depth", r.max_depth, 1, 1024);
-    r.threads = o.integer("threads", 0, 0, 4096);
-    r.clamp = o.number("clamp", 0.0f, 0.0f, kHuge);
-    r.model = parse_yarn_model(o.choice("model", "bysdf", {"bysdf", "ply", "fiber"}), o.file());
+    r.spp = read_setting_integer(o, "spp");
+    r.seed = static_cast<uint64_t>(read_setting_integer(o, "seed"));
+    r.max_depth = read_setting_integer(o, "max_depth");
+    r.threads = read_setting_integer(o, "threads");
+    r.clamp = read_setting_number(o, "clamp");
+    r.model = static_cast<YarnModel>(read_setting_choice(o, "model"));
     if (o.has("multiscale")) read_multiscale(o.object("multiscale"), r.multiscale);
     if (o.has("explicit")) read_explicit_options(o.object("explicit"), r.explicit_options);
-    r.trace_only = o.choice("integrator", "path", {"path", "trace"}) == "trace";
-    r.ply_method = parse_ply_method(o.choice("ply_method", "elliptical", ply_method_names()), o.file());
+    r.trace_only = read_setting_choice(o, "integrator") == find_choice(integrators(), "trace")->value;
+    r.ply_method = static_cast<PlyCrossSection>(read_setting_choice(o, "ply_method"));
     r.denoise = o.boolean("denoise", false);
-    r.filter_glossy = o.number("filter_glossy", r.filter_glossy, 0.0f, 10.0f);
+    r.filter_glossy = read_setting_number(o, "filter_glossy");
     o.finish();
 }
 
@@ -174,9 +189,9 @@ void read_params(JsonObject& o, const std::vector<ParamInfo>& table, Params& par
 
 // "multiscale": {"mode": "auto", "aggregation": "mixture", "multiscale_...": number, ...}
 void read_multiscale(JsonObject o, MultiscaleSettings& m) {
-    m.mode = *parse_multiscale_mode(o.choice("mode", multiscale_mode_name(m.mode), {"near", "multi", "far", "auto"}));
-    m.aggregation = *parse_multiscale_aggregation(
-        o.choice("aggregation", multiscale_aggregation_name(m.aggregation), {"mixture", "aggregate"}));
+    m.mode = *parse_multiscale_mode(o.choice("mode", multiscale_mode_name(m.mode), choice_names(multiscale_modes())));
+    m.aggregation = *parse_multiscale_aggregation(o.choice(
+        "aggregation", multiscale_aggregation_name(m.aggregation), choice_names(multiscale_aggregations())));
     read_params(o, multiscale_param_table(), m);
     check_multiscale_settings(m, o.file(), o.path());
     o.finish();
@@ -197,7 +212,7 @@ void read_fiber_params(JsonObject& o, FiberBcsdfParams& p) {
 
 MaterialDesc read_material(JsonObject o) {
     MaterialDesc m;
-    m.model = o.choice("model", "bysdf", {"bysdf", "placeholder", "fiber"});
+    m.model = o.choice("model", material_models().default_name, choice_names(material_models()));
     if (m.model == "placeholder") {
         read_params(o, placeholder_param_table(), m.placeholder);
     } else if (m.model == "fiber") {
@@ -346,22 +361,11 @@ MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArra
 }  // namespace
 
 YarnModel parse_yarn_model(const std::string& name, const std::string& source) {
-    if (name == "bysdf") return YarnModel::Bysdf;
-    if (name == "ply") return YarnModel::Ply;
-    if (name == "fiber") return YarnModel::Fiber;
-    throw InputError(source, "model", "must be bysdf, ply or fiber, got \"" + name + "\"");
-}
-
-const std::vector<std::string>& ply_method_names() {
-    static const std::vector<std::string> names{"elliptical", "local", "circular"};
-    return names;
+    return static_cast<YarnModel>(parse_choice(yarn_models(), name, source, "model"));
 }
 
 PlyCrossSection parse_ply_method(const std::string& name, const std::string& source) {
-    if (name == "elliptical") return PlyCrossSection::elliptical;
-    if (name == "local") return PlyCrossSection::local;
-    if (name == "circular") return PlyCrossSection::circular;
-    throw InputError(source, "ply_method", "must be elliptical, local or circular, got \"" + name + "\"");
+    return static_cast<PlyCrossSection>(parse_choice(ply_methods(), name, source, "ply_method"));
 }
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,

@@ -17,9 +17,8 @@ struct ExternalArrays {
 // Only the camera and film of a scene (everything else is left unread and unchecked).
 SceneDesc parse_view_text(const std::string& text, const std::string& source);
 
+// render.model and render.ply_method by name (base/registry.h); InputError for other names.
 YarnModel parse_yarn_model(const std::string& name, const std::string& source);
-// render.ply_method: "elliptical", "local" or "circular" (the names, in that order, for option lists).
-const std::vector<std::string>& ply_method_names();
 PlyCrossSection parse_ply_method(const std::string& name, const std::string& source);
 
 SceneDesc load_scene_file(const std::string& path);

@@ -5,7 +5,7 @@
 
 #include "math/number_text.h"
 #include "math/spline_convert.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

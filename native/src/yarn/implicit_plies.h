@@ -23,18 +23,13 @@
 #pragma once
 #include <cstdint>
 
+#include "base/registry.h"  // PlyCrossSection
 #include "yarn/curve_frames.h"
 #include "yarn/ply_helix.h"
 #include "yarn/yarn_description.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {
-
-enum class PlyCrossSection {
-    elliptical,  // plane through the ray, oriented by each ply's tangent (default)
-    circular,    // perpendicular cross-section at the hit (Zhu et al. 2023; comparison only)
-    local,       // as elliptical, on the yarn straightened to second order at the hit (fast)
-};
 
 struct PlyTraceOptions {
     PlyCrossSection cross_section = PlyCrossSection::elliptical;

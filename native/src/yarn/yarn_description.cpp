@@ -3,9 +3,10 @@
 #include <cmath>
 #include <cstddef>
 
+#include "base/input_error.h"
+#include "base/registry.h"
 #include "math/number_text.h"
 #include "math/vec.h"
-#include "scene/input_error.h"
 
 namespace purl {
 namespace {
@@ -18,13 +19,14 @@ ParamInfo field(const char* label, const char* name, const char* unit, float lo,
 ParamInfo whole(const char* label, const char* name, const char* unit, float lo, float hi, float def,
                 const char* doc, size_t offset) {
     ParamInfo info = field(label, name, unit, lo, hi, def, doc, offset);
-    info.is_integer = true;
+    info.kind = ParamKind::Integer;
     return info;
 }
 // A twist direction: +1 (Z, right-handed) or -1 (S).
 ParamInfo sign(const char* label, const char* name, float def, const char* doc, size_t offset) {
     ParamInfo info = field(label, name, "", -1, 1, def, doc, offset);
-    info.is_sign = true;
+    info.kind = ParamKind::Enum;
+    info.choices = &twist_directions();
     return info;
 }
 

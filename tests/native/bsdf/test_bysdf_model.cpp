@@ -8,7 +8,7 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/lommel_seeliger.h"
 #include "random_bysdf.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl::test {
 namespace {

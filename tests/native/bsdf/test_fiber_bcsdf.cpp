@@ -13,7 +13,7 @@
 #include "bsdf/gaussian.h"
 #include "support/chi_square.h"
 #include "math/rng.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl::test {
 namespace {

@@ -15,7 +15,7 @@
 #include "fit/fitter.h"
 #include "fit/preset_file.h"
 #include "render/renderer.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

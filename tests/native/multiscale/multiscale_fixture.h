@@ -9,13 +9,13 @@
 #include "bsdf/bysdf_params.h"
 #include "yarn/ply_crossings.h"
 #include "render/multiscale.h"
-#include "yarn/ply_validation.h"
+#include "yarn/straight_yarn.h"
 #include "yarn/yarn_shading_point.h"
 
 namespace purl::test {
 
 struct StraightYarn {
-    std::vector<Vec4> points = validation_curve(0.0f);
+    std::vector<Vec4> points = straight_yarn_points();
     CurveFrames frames{CurveView::chain(points.data(), static_cast<uint32_t>(points.size()), false)};
     YarnDescription description = default_yarn_description();
     FiberMaps maps{description};

@@ -22,7 +22,7 @@
 #include "support/shared_data.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "multiscale_fixture.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl::test {
 namespace {

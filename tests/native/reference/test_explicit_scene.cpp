@@ -10,7 +10,7 @@
 #include "reference/explicit_models.h"
 #include "reference_fixture.h"
 #include "scene/embree_scene.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl::test {
 namespace {

@@ -21,7 +21,7 @@
 #include "render/camera.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 
 namespace purl {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "bsdf/artist_params.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

@@ -12,7 +12,7 @@
 #include <unordered_map>
 
 #include "scene/bcc.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

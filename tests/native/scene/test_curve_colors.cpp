@@ -10,7 +10,7 @@
 
 #include "bsdf/bysdf_params.h"
 #include "scene/curve_arrays.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

@@ -6,7 +6,7 @@
 
 #include "math/spline_convert.h"
 #include "scene/curves.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 
 namespace purl {
 namespace {

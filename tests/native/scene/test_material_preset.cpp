@@ -6,7 +6,7 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/material_preset.h"
 #include "scene/scene_json.h"
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/bcc.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_files.h"
 #include "scene/swatch.h"
 

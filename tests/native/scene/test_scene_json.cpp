@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 using namespace purl;

@@ -9,7 +9,7 @@
 
 #include "math/bspline.h"
 #include "math/spline_convert.h"
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "scene/swatch.h"
 
 namespace purl {

@@ -4,7 +4,7 @@
 #include <set>
 #include <string>
 
-#include "scene/input_error.h"
+#include "base/input_error.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "yarn/ply_validation.h"
+#include "yarn/straight_yarn.h"
 #include "yarn/yarn_shading_point.h"
 #include "yarn/yarn_tube.h"
 
@@ -11,7 +11,7 @@ namespace purl {
 namespace {
 
 struct Yarn {
-    std::vector<Vec4> points = validation_curve(0.0f);
+    std::vector<Vec4> points = straight_yarn_points();
     CurveFrames frames{CurveView::chain(points.data(), static_cast<uint32_t>(points.size()), false)};
 };
 

@@ -1,11 +1,12 @@
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "math/rng.h"
 #include "yarn/curve_frames.h"
-#include "yarn/explicit_plies.h"
+#include "reference/explicit_plies.h"
+#include "yarn/straight_yarn.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {
@@ -80,11 +81,7 @@ YarnDescription touching_plies(int plies, float ply_twist) {
 
 std::vector<Vec4> validation_curve(float curvature_radius) {
     std::vector<Vec4> points;
-    if (curvature_radius <= 0) {
-        // Long enough that a ray at 85 degrees through the middle third stays off the ends.
-        for (int i = 0; i < 80; ++i) points.emplace_back(0.0f, 0.0f, float(i), 1.0f);
-        return points;
-    }
+    if (curvature_radius <= 0) return straight_yarn_points();
     // Control points on a circle: the uniform B-spline runs at radius a (2 + cos step) / 3.
     const int n = std::max(24, static_cast<int>(std::ceil(2 * kPi * curvature_radius / 0.5f)));
     const float step = 2 * kPi / n;

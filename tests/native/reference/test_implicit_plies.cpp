@@ -3,9 +3,9 @@
 #include <cmath>
 #include <vector>
 
-#include "yarn/explicit_plies.h"
+#include "reference/explicit_plies.h"
 #include "yarn/implicit_plies.h"
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "yarn/explicit_plies.h"
-#include "yarn/ply_validation.h"
+#include "reference/explicit_plies.h"
+#include "reference/ply_validation.h"
 
 namespace purl {
 namespace {

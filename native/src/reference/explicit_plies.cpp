@@ -1,4 +1,4 @@
-#include "yarn/explicit_plies.h"
+#include "reference/explicit_plies.h"
 
 #include <algorithm>
 #include <cmath>

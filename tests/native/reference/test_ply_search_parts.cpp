@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "yarn/ply_validation.h"
+#include "reference/ply_validation.h"
 #include "yarn/plies/exact_scan.h"
 #include "yarn/plies/local_helices.h"
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "yarn/explicit_plies.h"
+#include "reference/explicit_plies.h"
 #include "yarn/implicit_plies.h"
 #include "yarn/yarn_description.h"
 
