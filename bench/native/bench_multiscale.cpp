@@ -25,8 +25,8 @@
 #include "bsdf/bysdf_params.h"
 #include "math/rng.h"
 #include "math/sampling.h"
-#include "render/multiscale.h"
 #include "reference/ply_validation.h"
+#include "render/multiscale.h"
 #include "yarn/yarn_shading_point.h"
 
 namespace purl {

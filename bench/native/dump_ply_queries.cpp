@@ -21,13 +21,13 @@
 #include <vector>
 
 #include "math/rng.h"
+#include "reference/explicit_plies.h"
 #include "reference/explicit_sampling.h"
+#include "reference/ply_validation.h"
 #include "render/camera.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
-#include "reference/explicit_plies.h"
 #include "yarn/implicit_plies.h"
-#include "reference/ply_validation.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {

@@ -13,10 +13,10 @@
 #include <string>
 #include <thread>
 
+#include "base/input_error.h"
 #include "io/image_io.h"
 #include "render/denoise.h"
 #include "render/renderer.h"
-#include "base/input_error.h"
 
 namespace purl::python {
 

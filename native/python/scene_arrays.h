@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "base/input_error.h"
 #include "scene/bcc.h"
 #include "scene/curve_arrays.h"
-#include "base/input_error.h"
 #include "scene/scene.h"
 #include "scene/yarn_spacing.h"
 

@@ -17,10 +17,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/input_error.h"
 #include "base/param_info.h"
 #include "scene/bcc.h"
 #include "scene/curves.h"
-#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl::fuzz {

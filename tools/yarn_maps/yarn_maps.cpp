@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "reference/ply_validation.h"
 #include "yarn/fiber_maps.h"
 #include "yarn/ply_cross_section.h"
-#include "reference/ply_validation.h"
 
 namespace {
 

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "base/input_error.h"
 #include "fit/fitter.h"
 #include "fit/preset_file.h"
-#include "base/input_error.h"
 
 namespace purl {
 

@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "render/renderer.h"
 #include "base/input_error.h"
+#include "render/renderer.h"
 
 namespace purl {
 namespace {

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bsdf/fiber_bcsdf_params.h"
 #include "base/input_error.h"
+#include "bsdf/fiber_bcsdf_params.h"
 #include "yarn/yarn_description.h"
 
 namespace purl {

@@ -2,8 +2,8 @@
 
 #include <fstream>
 
-#include "scene/bcc.h"
 #include "base/input_error.h"
+#include "scene/bcc.h"
 
 namespace purl {
 

@@ -2,9 +2,9 @@
 
 #include <cstdio>
 
+#include "base/input_error.h"
 #include "reference/fiber_curves.h"
 #include "reference/ply_curves.h"
-#include "base/input_error.h"
 
 namespace purl {
 namespace {

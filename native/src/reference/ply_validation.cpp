@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "math/rng.h"
-#include "yarn/curve_frames.h"
 #include "reference/explicit_plies.h"
+#include "yarn/curve_frames.h"
 #include "yarn/straight_yarn.h"
 #include "yarn/yarn_tube.h"
 

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "math/number_text.h"
 #include "base/input_error.h"
+#include "math/number_text.h"
 
 namespace purl {
 

@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/input_error.h"
 #include "math/number_text.h"
 #include "math/transform.h"
-#include "base/input_error.h"
 
 namespace purl {
 

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <vector>
 
+#include "base/input_error.h"
 #include "math/number_text.h"
 #include "math/spline_convert.h"
-#include "base/input_error.h"
 
 namespace purl {
 namespace {

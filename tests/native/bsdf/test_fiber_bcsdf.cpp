@@ -9,11 +9,11 @@
 #include <cstdio>
 #include <vector>
 
+#include "base/input_error.h"
 #include "bsdf/fiber_bcsdf.h"
 #include "bsdf/gaussian.h"
-#include "support/chi_square.h"
 #include "math/rng.h"
-#include "base/input_error.h"
+#include "support/chi_square.h"
 
 namespace purl::test {
 namespace {

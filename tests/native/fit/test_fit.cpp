@@ -11,11 +11,11 @@
 #include <limits>
 #include <unistd.h>
 
+#include "base/input_error.h"
 #include "fit/fit_command.h"
 #include "fit/fitter.h"
 #include "fit/preset_file.h"
 #include "render/renderer.h"
-#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

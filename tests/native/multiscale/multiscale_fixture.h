@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "bsdf/bysdf_params.h"
-#include "yarn/ply_crossings.h"
 #include "render/multiscale.h"
+#include "yarn/ply_crossings.h"
 #include "yarn/straight_yarn.h"
 #include "yarn/yarn_shading_point.h"
 

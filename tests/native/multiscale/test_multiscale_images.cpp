@@ -18,12 +18,12 @@
 #include <cstdlib>
 #include <string>
 
-#include "support/reference_images.h"
-#include "support/shared_data.h"
+#include "base/input_error.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
-#include "base/input_error.h"
 #include "scene/scene_json.h"
+#include "support/reference_images.h"
+#include "support/shared_data.h"
 
 namespace purl {
 namespace {

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "reference/explicit_plies.h"
-#include "yarn/implicit_plies.h"
 #include "reference/ply_validation.h"
+#include "yarn/implicit_plies.h"
 #include "yarn/yarn_tube.h"
 
 namespace purl {

@@ -15,13 +15,13 @@
 #include <string>
 #include <utility>
 
-#include "support/shared_data.h"
 #include "math/rng.h"
 #include "reference/explicit_sampling.h"
+#include "reference/ply_validation.h"
 #include "render/camera.h"
 #include "scene/embree_scene.h"
 #include "scene/scene_json.h"
-#include "reference/ply_validation.h"
+#include "support/shared_data.h"
 
 namespace purl {
 namespace {

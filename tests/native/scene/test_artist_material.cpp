@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "bsdf/artist_params.h"
 #include "base/input_error.h"
+#include "bsdf/artist_params.h"
 #include "scene/scene_json.h"
 
 namespace purl {

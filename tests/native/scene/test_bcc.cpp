@@ -11,8 +11,8 @@
 #include <limits>
 #include <unordered_map>
 
-#include "scene/bcc.h"
 #include "base/input_error.h"
+#include "scene/bcc.h"
 
 namespace purl {
 namespace {

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "base/input_error.h"
 #include "bsdf/bysdf_params.h"
 #include "scene/curve_arrays.h"
-#include "base/input_error.h"
 #include "scene/scene_json.h"
 
 namespace purl {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "base/input_error.h"
 #include "math/spline_convert.h"
 #include "scene/curves.h"
-#include "base/input_error.h"
 
 namespace purl {
 namespace {

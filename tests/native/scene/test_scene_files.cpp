@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "scene/bcc.h"
 #include "base/input_error.h"
+#include "scene/bcc.h"
 #include "scene/scene_files.h"
 #include "scene/swatch.h"
 

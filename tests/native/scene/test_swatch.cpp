@@ -7,9 +7,9 @@
 #include <limits>
 #include <unordered_map>
 
+#include "base/input_error.h"
 #include "math/bspline.h"
 #include "math/spline_convert.h"
-#include "base/input_error.h"
 #include "scene/swatch.h"
 
 namespace purl {
