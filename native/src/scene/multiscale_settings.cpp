@@ -15,6 +15,12 @@ ParamInfo scalar(const char* name, const char* unit, float lo, float hi, float d
     return {name, unit, 1, lo, hi, {def, 0, 0}, doc, offset, false};
 }
 
+ParamInfo whole(const char* name, const char* unit, float lo, float hi, float def, const char* doc, size_t offset) {
+    ParamInfo info = scalar(name, unit, lo, hi, def, doc, offset);
+    info.kind = ParamKind::Integer;
+    return info;
+}
+
 std::vector<ParamInfo> build_table() {
     return {
         scalar("multiscale_roughness_c", "", 0.25f, 1e6f, 64.0f,
@@ -23,9 +29,9 @@ std::vector<ParamInfo> build_table() {
         scalar("multiscale_footprint_scale", "px", 0.0f, 16.0f, 1.0f,
                "Pixel footprint used for the h range, in pixels (0 turns multi-scale into near field).",
                offsetof(MultiscaleSettings, footprint_scale)),
-        scalar("multiscale_max_h_samples", "", 1.0f, float(kMaxHSamples), 5.0f,
-               "Most azimuthal offsets h traced per camera hit (a whole number; more cost more than they save).",
-               offsetof(MultiscaleSettings, max_h_samples)),
+        whole("multiscale_max_h_samples", "", 1.0f, float(kMaxHSamples), 5.0f,
+              "Most azimuthal offsets h traced per camera hit (a whole number; more cost more than they save).",
+              offsetof(MultiscaleSettings, max_h_samples)),
         scalar("multiscale_sample_spacing", "fibers", 0.25f, 64.0f, 1.0f,
                "Footprint width per h sample, in fiber diameters.",
                offsetof(MultiscaleSettings, sample_spacing)),
@@ -58,9 +64,9 @@ void check_multiscale_settings(const MultiscaleSettings& s, const std::string& f
             throw InputError(file, place + "." + info.name,
                              "value " + number_text(v) + " outside [" + number_text(info.min_value) + ", " +
                                  number_text(info.max_value) + "]");
+        if (info.is_integer() && v != std::floor(v))
+            throw InputError(file, place + "." + info.name, "must be a whole number");
     }
-    if (s.max_h_samples != std::floor(s.max_h_samples))
-        throw InputError(file, place + ".multiscale_max_h_samples", "must be a whole number");
 }
 
 // Names and order come from base/registry.h, whose values are these enums'.
