@@ -213,10 +213,13 @@ int main(int argc, char** argv) {
     // Ranges, names and help of the render settings come from base/registry.h.
     const auto range = [](const char* name) {
         const ParamInfo& s = render_setting(name);
+        if (s.is_integer()) return CLI::Range((long long)s.min_value, (long long)s.max_value);
         return CLI::Range(s.min_value, s.max_value);
     };
-    const auto help = [](const char* name, const char* what) {
-        return std::string(render_setting(name).doc) + " " + what;
+    const auto help = [](const char* name, const char* what) {  // "Doc (what)."
+        std::string doc = render_setting(name).doc;
+        if (!doc.empty() && doc.back() == '.') doc.pop_back();
+        return doc + " " + what + ".";
     };
     const auto one_of = [](const ChoiceList& list, const char* what) {
         std::string text = what;
@@ -262,7 +265,11 @@ int main(int argc, char** argv) {
     CLI::App* export_explicit = app.add_subcommand(
         "export-explicit", "Write a scene's explicit ply or fiber curves as a BS-type BCC file plus radii");
     export_explicit->add_option("scene", export_scene, "scene file (JSON)")->required();
-    export_explicit->add_option("--model", export_model, "ply or fiber")->check(CLI::IsMember({"ply", "fiber"}));
+    std::vector<std::string> explicit_models;  // the yarn models but the BYSDF
+    for (const Choice& c : yarn_models().choices)
+        if (c.value != float(YarnModel::Bysdf)) explicit_models.push_back(c.name);
+    export_explicit->add_option("--model", export_model, explicit_models[0] + " or " + explicit_models[1])
+        ->check(CLI::IsMember(explicit_models));
     export_explicit->add_option("-o,--output", export_output, "output BCC file")->required();
     export_explicit->add_option("--radii", export_radii,
                                 "radius side file: float32 per BCC point, scene units (default: output.radii)");
