@@ -197,10 +197,13 @@ void read_fiber_params(JsonObject& o, FiberBcsdfParams& p) {
 
 MaterialDesc read_material(JsonObject o) {
     MaterialDesc m;
-    m.model = o.choice("model", "bysdf", {"bysdf", "placeholder", "fiber"});
-    if (m.model == "placeholder") {
+    const std::string model = o.choice("model", "bysdf", {"bysdf", "placeholder", "fiber"});
+    m.model = model == "placeholder" ? MaterialModel::Placeholder
+              : model == "fiber"     ? MaterialModel::Fiber
+                                     : MaterialModel::Bysdf;
+    if (m.model == MaterialModel::Placeholder) {
         read_params(o, placeholder_param_table(), m.placeholder);
-    } else if (m.model == "fiber") {
+    } else if (m.model == MaterialModel::Fiber) {
         read_fiber_params(o, m.fiber);  // curves that already are fibers
     } else {
         if (o.has("fiber")) {  // for the fiber-based reference made from this yarn
