@@ -62,7 +62,8 @@ class RenderJob {
 public:
     explicit RenderJob(SceneDesc scene) {
         py::gil_scoped_release release;  // Embree's build: Blender's UI thread keeps running
-        renderer_ = std::make_unique<Renderer>(std::move(scene), make_explicit_scene);
+        const ExplicitSceneBuilder make_explicit = make_explicit_scene;  // ply and fiber renders
+        renderer_ = std::make_unique<Renderer>(std::move(scene), make_explicit);
     }
     ~RenderJob() {
         control_.cancel = true;
