@@ -99,6 +99,9 @@ void print_stats(const RenderStats& s) {
         std::fprintf(stderr, "multiscale: camera hits near %llu, multi %llu, far %llu; mean h samples per hit %.2f\n",
                      (unsigned long long)s.hits_near, (unsigned long long)s.hits_multi,
                      (unsigned long long)s.hits_far, s.mean_h_samples());
+    if (s.bysdf_evaluations > 0)
+        std::fprintf(stderr, "BYSDF evaluations %llu (%.2f per sample)\n", (unsigned long long)s.bysdf_evaluations,
+                     s.samples ? double(s.bysdf_evaluations) / double(s.samples) : 0.0);
 }
 
 int run_render(const std::string& scene_path, const std::string& output, const std::string& png,
@@ -122,7 +125,7 @@ int run_render(const std::string& scene_path, const std::string& output, const s
     if (denoise) scene.render.denoise = true;
     if (scene.render.denoise) Denoiser::load();  // a missing OIDN is reported before the scene is built
 
-    Renderer renderer(std::move(scene));
+    Renderer renderer(std::move(scene), make_explicit_scene);
     RenderControl control;
     g_control = &control;
     std::atomic<bool> finished{false};

@@ -232,7 +232,7 @@ py::dict fit_from_python(const py::list& target_list, const py::object& arrays, 
     }
     MaterialDesc base;
     for (const YarnSetDesc& y : targets[0].scene.yarns)
-        if (y.material.model == "bysdf") {
+        if (y.material.model == MaterialModel::Bysdf) {
             base = y.material;
             break;
         }

@@ -15,6 +15,7 @@
 
 #include "base/input_error.h"
 #include "io/image_io.h"
+#include "reference/explicit_models.h"
 #include "render/denoise.h"
 #include "render/renderer.h"
 
@@ -51,6 +52,7 @@ inline py::dict stats_to_dict(const RenderStats& s) {
     d["multiscale_hits"] = py::dict(py::arg("near") = s.hits_near, py::arg("multi") = s.hits_multi,
                                     py::arg("far") = s.hits_far);
     d["mean_h_samples"] = s.mean_h_samples();
+    d["bysdf_evaluations"] = s.bysdf_evaluations;
     d["warnings"] = s.warnings;
     return d;
 }
@@ -60,7 +62,8 @@ class RenderJob {
 public:
     explicit RenderJob(SceneDesc scene) {
         py::gil_scoped_release release;  // Embree's build: Blender's UI thread keeps running
-        renderer_ = std::make_unique<Renderer>(std::move(scene));
+        const ExplicitSceneBuilder make_explicit = make_explicit_scene;  // ply and fiber renders
+        renderer_ = std::make_unique<Renderer>(std::move(scene), make_explicit);
     }
     ~RenderJob() {
         control_.cancel = true;

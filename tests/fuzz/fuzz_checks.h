@@ -151,8 +151,8 @@ std::string check_table(const Params& p, const std::vector<ParamInfo>& table, co
 }
 
 inline std::string check_material(const MaterialDesc& m) {
-    if (m.model == "placeholder") return check_table(m.placeholder, placeholder_param_table(), "placeholder");
-    if (m.model != "bysdf") return "unknown model " + m.model;
+    if (m.model == MaterialModel::Placeholder) return check_table(m.placeholder, placeholder_param_table(), "placeholder");
+    if (m.model != MaterialModel::Bysdf) return std::string("unknown model ") + material_model_name(m.model);
     const std::string bad = check_table(m.bysdf, bysdf_param_table(), "bysdf");
     if (!bad.empty()) return bad;
     try {

@@ -18,7 +18,8 @@ const ChoiceList& yarn_models() {
 }
 
 const ChoiceList& material_models() {
-    // The values are the order of the list; materials are told apart by name.
+    // Values are MaterialModel's (scene/scene.h), in this order; its fourth, Ply, is made only
+    // by the explicit reference, never read.
     static const ChoiceList list{
         "material.model",
         {{"bysdf", "Yarn (plies and fibers)", "The BYSDF over implicit plies and fibers", 0},

@@ -27,4 +27,10 @@ struct BsdfSample {
     Vec3 weight() const { return pdf > 0 ? f * (std::fabs(wi.z) / pdf) : Vec3(0.0f); }
 };
 
+// Value and density at one pair of directions, computed together.
+struct BsdfEvalPdf {
+    Vec3 f;
+    float pdf = 0;
+};
+
 }  // namespace purl

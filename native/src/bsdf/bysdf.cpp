@@ -15,6 +15,8 @@ namespace {
 constexpr float kMinCos = 1e-6f;
 constexpr float kMinAlpha = 1e-3f;  // below this GGX is a mirror in float precision
 
+thread_local uint64_t evaluations = 0;  // bysdf_evaluations_on_this_thread
+
 Vec3 clamp01(Vec3 c) {
     return {clamp(c.x, 0.0f, 1.0f), clamp(c.y, 0.0f, 1.0f), clamp(c.z, 0.0f, 1.0f)};
 }
@@ -35,6 +37,8 @@ bool transmission_half_vector(Vec3 wo, Vec3 wi, float eta, Vec3& h, float& cos_o
 }
 
 }  // namespace
+
+uint64_t bysdf_evaluations_on_this_thread() { return evaluations; }
 
 Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
     reflection_ggx_ = {clamp_alpha(p.specular_roughness_along), clamp_alpha(p.specular_roughness_across)};
@@ -144,6 +148,7 @@ float Bysdf::lobe_roughness(int lobe) const {
 
 template <bool kWithPdf>
 BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord, const PlyCrossings* plies) const {
+    ++evaluations;
     BsdfEvalPdf out;
     // Traced: the hit ply's own path attenuates the transmission lobes, the other plies all.
     const bool crossing = traced_ && plies;
@@ -206,7 +211,7 @@ BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord, const PlyCrossings* p
 template BsdfEvalPdf Bysdf::evaluate<false>(Vec3, Vec3, float, const PlyCrossings*) const;
 template BsdfEvalPdf Bysdf::evaluate<true>(Vec3, Vec3, float, const PlyCrossings*) const;
 
-std::optional<BsdfSample> Bysdf::sample(Vec3 wo, float u_lobe, Vec2 u) const {
+std::optional<BsdfSample> Bysdf::sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery* exit) const {
     if (!(std::fabs(wo.z) > kMinCos)) return std::nullopt;
     const bool flipped = wo.z < 0;
     if (flipped) wo.z = -wo.z;
@@ -254,8 +259,11 @@ std::optional<BsdfSample> Bysdf::sample(Vec3 wo, float u_lobe, Vec2 u) const {
     const bool wants_reflection = (s.flags & kBsdfReflection) != 0;
     if (wants_reflection ? !(s.wi.z > kMinCos) : !(s.wi.z < -kMinCos)) return std::nullopt;
 
-    // Value and density of the whole mixture, so that weight = f cos / pdf is exact for MIS.
-    const BsdfEvalPdf ep = evaluate<true>(wo, s.wi, 0.0f, nullptr);
+    // Value and density of the whole mixture, so that weight = f cos / pdf is exact for MIS;
+    // f attenuated along the exit when the caller gives it (the density does not depend on it).
+    ScatterExit along;
+    if (exit) along = exit->toward(flipped ? Vec3(s.wi.x, s.wi.y, -s.wi.z) : s.wi);
+    const BsdfEvalPdf ep = evaluate<true>(wo, s.wi, along.chord, along.plies);
     if (!(ep.pdf > 0)) return std::nullopt;
     s.f = ep.f;
     s.pdf = ep.pdf;

@@ -22,11 +22,13 @@
 // Deviations from the paper and the renderer contract are in docs/bysdf.md.
 #pragma once
 #include <algorithm>
+#include <cstdint>
 #include <optional>
 
 #include "bsdf/bsdf_sample.h"
 #include "bsdf/bysdf_params.h"
 #include "bsdf/ggx.h"
+#include "bsdf/scatter_exit.h"
 #include "yarn/ply_crossings.h"
 
 namespace purl {
@@ -49,11 +51,9 @@ struct PlyPassOn {
     Vec3 product(const PlyCrossings& plies) const;  // over the other plies crossed (1 when none)
 };
 
-// Value and density at one pair of directions, computed together.
-struct BsdfEvalPdf {
-    Vec3 f;
-    float pdf = 0;
-};
+// BYSDF evaluations (eval, pdf, eval_pdf, sample: one each) made on the calling thread so far:
+// the renderer's statistics count them (RenderStats::bysdf_evaluations).
+uint64_t bysdf_evaluations_on_this_thread();
 
 class Bysdf {
 public:
@@ -61,23 +61,24 @@ public:
 
     Bysdf(const BysdfParams& params, const BysdfShadingPoint& point);
 
-    // Model value without the cosine, 1/sr. `chord` (|x - y| / yarn radius) only matters
-    // when wi is on the other side of the yarn; 0 means "no attenuation known yet". `plies`:
-    // what the ray toward wi crosses (traced ply crossing); null: nothing known, only the hit
-    // ply's chord attenuates.
-    Vec3 eval(Vec3 wo, Vec3 wi, float chord = 0.0f, const PlyCrossings* plies = nullptr) const {
-        return evaluate<false>(wo, wi, chord, plies).f;
+    // Model value without the cosine, 1/sr. `exit.chord` (|x - y| / yarn radius) only matters
+    // when wi is on the other side of the yarn; 0 means "no attenuation known yet".
+    // `exit.plies`: what the ray toward wi crosses (traced ply crossing); null: nothing known,
+    // only the hit ply's chord attenuates. The density does not depend on the exit.
+    Vec3 eval(Vec3 wo, Vec3 wi, const ScatterExit& exit = {}) const {
+        return evaluate<false>(wo, wi, exit.chord, exit.plies).f;
     }
     // Solid-angle density of `sample`, 1/sr.
     float pdf(Vec3 wo, Vec3 wi) const { return evaluate<true>(wo, wi, 0.0f, nullptr).pdf; }
-    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, float chord = 0.0f, const PlyCrossings* plies = nullptr) const {
-        return evaluate<true>(wo, wi, chord, plies);
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& exit = {}) const {
+        return evaluate<true>(wo, wi, exit.chord, exit.plies);
     }
     bool traces_plies() const { return traced_; }  // ply_crossing 1: wants PlyCrossings
 
-    // Chooses a lobe with u_lobe in [0, 1), then a direction with u in [0, 1)^2. The
-    // returned f is unattenuated (chord 0); see docs/bysdf.md for transmission.
-    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const;
+    // Chooses a lobe with u_lobe in [0, 1), then a direction with u in [0, 1)^2. With `exit`,
+    // the sampled direction's exit is asked before the one evaluation, so f comes out
+    // attenuated along it; without, f is unattenuated (chord 0). See docs/bysdf.md.
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery* exit = nullptr) const;
 
     // Probabilities of choosing each Lobe for this wo (they sum to 1, or all are 0).
     void lobe_probabilities(Vec3 wo, float prob[4]) const;

@@ -27,6 +27,7 @@
 
 #include "bsdf/bsdf_sample.h"
 #include "bsdf/fiber_bcsdf_params.h"
+#include "bsdf/scatter_exit.h"
 
 namespace purl {
 
@@ -82,12 +83,18 @@ private:
     double gamma_mass_;    // mass of N(0, gamma^2) inside [-pi, pi]
 };
 
-// What a shading point holds: a pointer to the per-material model.
+// What a shading point holds: a pointer to the per-material model. A fiber's exit (through its
+// own cylinder) does not attenuate: the fiber reference meets the next fiber by tracing.
 struct FiberBcsdfRef {
     const FiberBcsdf* model = nullptr;
-    Vec3 eval(Vec3 wo, Vec3 wi) const { return model->eval(wo, wi); }
+    Vec3 eval(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return model->eval(wo, wi); }
     float pdf(Vec3 wo, Vec3 wi) const { return model->pdf(wo, wi); }
-    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const { return model->sample(wo, u_lobe, u); }
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const {
+        return {model->eval(wo, wi), model->pdf(wo, wi)};
+    }
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery* = nullptr) const {
+        return model->sample(wo, u_lobe, u);
+    }
 };
 
 }  // namespace purl

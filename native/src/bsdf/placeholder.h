@@ -1,6 +1,7 @@
 // Stand-in materials until the BYSDF is wired in, and the Lambertian used for meshes.
 // Both are one-sided: local normal +z, wo and wi point away from the surface and must
-// both have z > 0 (a two-sided surface is the renderer's job: it flips the frame).
+// both have z > 0 (a two-sided surface is the renderer's job: it flips the frame). Surfaces:
+// the exit (bsdf/scatter_exit.h) does not matter to them.
 //
 // PlaceholderYarnBsdf: colour/pi diffuse plus isotropic GGX reflection, mixed by a
 // Schlick-style Fresnel weight F = specular * (0.04 + 0.96 (1 - cos theta_o)^5) taken at
@@ -16,6 +17,7 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/ggx.h"
 #include "base/param_info.h"
+#include "bsdf/scatter_exit.h"
 #include "math/sampling.h"
 
 namespace purl {
@@ -23,10 +25,11 @@ namespace purl {
 struct DiffuseBsdf {
     Vec3 albedo{0.8f};  // hemispherical reflectance, linear Rec.709, each in [0, 1]
 
-    Vec3 eval(Vec3 wo, Vec3 wi) const {
+    Vec3 eval(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const {
         return (wo.z > 0 && wi.z > 0) ? albedo * kInvPi : Vec3(0.0f);
     }
-    std::optional<BsdfSample> sample(Vec3 wo, float /*u_lobe*/, Vec2 u) const {
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return {eval(wo, wi), pdf(wo, wi)}; }
+    std::optional<BsdfSample> sample(Vec3 wo, float /*u_lobe*/, Vec2 u, ExitQuery* = nullptr) const {
         if (!(wo.z > 0)) return std::nullopt;
         BsdfSample s;
         s.wi = sample_cosine_hemisphere(u);
@@ -63,7 +66,7 @@ struct PlaceholderYarnBsdf {
         return w + diffuse > 0 ? w / (w + diffuse) : 0.0f;
     }
 
-    Vec3 eval(Vec3 wo, Vec3 wi) const {
+    Vec3 eval(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const {
         if (!(wo.z > 0 && wi.z > 0)) return Vec3(0.0f);
         const float w = glossy_weight(wo);
         Vec3 f = color * ((1.0f - w) * kInvPi);
@@ -89,7 +92,8 @@ struct PlaceholderYarnBsdf {
         }
         return p;
     }
-    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const {
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return {eval(wo, wi), pdf(wo, wi)}; }
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery* = nullptr) const {
         if (!(wo.z > 0)) return std::nullopt;
         const float p_glossy = glossy_probability(wo);
         if (!(p_glossy > 0) && !(average(color) > 0)) return std::nullopt;
@@ -110,6 +114,8 @@ struct PlaceholderYarnBsdf {
         s.f = eval(wo, s.wi);
         return s;
     }
+    // Path regularisation (render/path_regularization.h): alpha = roughness^2 at least `min_alpha`.
+    void roughen(float min_alpha) { roughness = std::max(roughness, std::sqrt(min_alpha)); }
 };
 
 // The placeholder's parameters as the scene stores them, declared once below.

@@ -58,7 +58,7 @@ int run_fit_command(const FitCommand& c) {
 
     MaterialDesc base;
     for (const YarnSetDesc& y : targets[0].scene.yarns)
-        if (y.material.model == "bysdf") {
+        if (y.material.model == MaterialModel::Bysdf) {
             base = y.material;
             break;
         }

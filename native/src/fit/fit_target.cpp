@@ -90,7 +90,7 @@ void check_fit_target(const FitTarget& t) {
         if (total <= 0) throw InputError(t.name, "mask", "selects no pixels");
     }
     bool has_bysdf = false;
-    for (const YarnSetDesc& y : t.scene.yarns) has_bysdf = has_bysdf || y.material.model == "bysdf";
+    for (const YarnSetDesc& y : t.scene.yarns) has_bysdf = has_bysdf || y.material.model == MaterialModel::Bysdf;
     if (!has_bysdf) throw InputError(t.scene.source, "yarns", "no yarn with a bysdf material to fit");
 }
 

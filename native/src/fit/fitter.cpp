@@ -111,7 +111,7 @@ std::vector<float> render_target(const FitTarget& target, const BysdfParams& par
     if (seed >= 0) scene.render.seed = uint64_t(seed);
     if (threads > 0) scene.render.threads = threads;
     for (YarnSetDesc& y : scene.yarns)
-        if (y.material.model == "bysdf") y.material.bysdf = params;
+        if (y.material.model == MaterialModel::Bysdf) y.material.bysdf = params;
     Renderer renderer(std::move(scene));
     RenderControl control;
     const RenderResult result = renderer.render(control);
@@ -142,7 +142,7 @@ double target_error(const FitTarget& target, const std::vector<float>& rgb) {
 BysdfParams starting_params(const std::vector<FitTarget>& targets) {
     for (const FitTarget& t : targets)
         for (const YarnSetDesc& y : t.scene.yarns)
-            if (y.material.model == "bysdf") return y.material.bysdf;
+            if (y.material.model == MaterialModel::Bysdf) return y.material.bysdf;
     throw InputError(targets.empty() ? "" : targets.front().name, "", "no yarn with a bysdf material to fit");
 }
 

@@ -11,7 +11,7 @@ YarnCurves gather_explicit_curves(const SceneDesc& scene, std::vector<uint32_t>*
     YarnCurves all;
     for (size_t y = 0; y < scene.yarns.size(); ++y) {
         const YarnSetDesc& set = scene.yarns[y];
-        if (set.material.model != "ply" && set.material.model != "fiber") continue;
+        if (set.material.model != MaterialModel::Ply && set.material.model != MaterialModel::Fiber) continue;
         const YarnCurves& c = set.curves;
         const uint32_t point_base = static_cast<uint32_t>(all.control_points.size());
         const uint32_t segment_base = static_cast<uint32_t>(all.segment_first.size());

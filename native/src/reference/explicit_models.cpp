@@ -27,7 +27,7 @@ ExplicitSize explicit_size(const SceneDesc& scene, YarnModel model, const Explic
     if (model == YarnModel::Bysdf) return size;
     for (size_t y = 0; y < scene.yarns.size(); ++y) {
         const YarnSetDesc& set = scene.yarns[y];
-        if (set.material.model != "bysdf") continue;
+        if (set.material.model != MaterialModel::Bysdf) continue;
         const YarnDescription& d = set.material.yarn;
         check_yarn_description(d, scene.source, set_place(scene, y) + ".material.yarn");
         const size_t per_curve = model == YarnModel::Ply ? size_t(d.plies()) : size_t(d.plies()) * d.fibers();
@@ -59,7 +59,8 @@ SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model) {
 
 SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model, const ExplicitOptions& options) {
     if (model == YarnModel::Bysdf) return scene;
-    const char* name = model == YarnModel::Ply ? "ply" : "fiber";
+    const MaterialModel material = model == YarnModel::Ply ? MaterialModel::Ply : MaterialModel::Fiber;
+    const char* name = material_model_name(material);
     const ExplicitSize size = explicit_size(scene, model, options);
     if (double(size.total.bytes) > options.memory_budget_bytes || size.total.control_points >= (size_t(1) << 32)) {
         size_t largest = 0;
@@ -88,7 +89,7 @@ SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model, const Exp
         const YarnSetDesc& set = scene.yarns[y];
         const uint32_t set_key_base = key_base;
         key_base += static_cast<uint32_t>(set.curves.curve_count());
-        if (set.material.model != "bysdf") {
+        if (set.material.model != MaterialModel::Bysdf) {
             out.yarns.push_back(set);
             continue;
         }
@@ -96,7 +97,7 @@ SceneDesc make_explicit_scene(const SceneDesc& scene, YarnModel model, const Exp
         e.name = set.name;
         e.id = set.id;
         e.material = set.material;
-        e.material.model = name;
+        e.material.model = material;
         const ExplicitSetSize& s = size.sets[y];
         YarnCurves& c = e.curves;
         c.control_points.reserve(s.control_points);

@@ -81,17 +81,6 @@ std::vector<Vec4> fit_samples(const CurveSampling& plan, const std::vector<Point
     return interpolate_open(knots, &start, &end);
 }
 
-std::vector<CurveFrames> yarn_set_frames(const YarnCurves& c) {
-    std::vector<CurveFrames> frames;
-    frames.reserve(c.curve_count());
-    for (size_t i = 0; i < c.curve_count(); ++i)
-        // Segment indices are global, so the view's base is the set's first point.
-        frames.emplace_back(CurveView::separate_segments(c.control_points.data(), static_cast<uint32_t>(c.point_count()),
-                                                         c.segment_first.data() + c.segment_offsets[i],
-                                                         c.segment_count(i), c.closed[i] != 0));
-    return frames;
-}
-
 CurveSampling plan_ply_sampling(const CurveFrames& frames, const YarnDescription& d, const ExplicitOptions& o) {
     const PathScales p = path_scales(frames, d, o.curvature_quantile);
     // The ply centre circles the centre-line (radius a, rate omega) while the centre-line bends.

@@ -12,6 +12,7 @@
 #include "reference/spline_fit.h"
 #include "scene/explicit_options.h"
 #include "scene/curves.h"
+#include "scene/yarn_set_frames.h"
 #include "yarn/curve_frames.h"
 #include "yarn/yarn_description.h"
 
@@ -32,10 +33,6 @@ std::vector<float> sample_arc_lengths(const CurveSampling& plan, float length);
 
 // Control points through samples taken at sample_arc_lengths(plan, ...), for YarnCurves::add_curve.
 std::vector<Vec4> fit_samples(const CurveSampling& plan, const std::vector<Point4d>& samples);
-
-// Frames of every curve of a yarn set, built exactly as the BYSDF's shader builds them, so the
-// two agree on every frame, arc length and twist.
-std::vector<CurveFrames> yarn_set_frames(const YarnCurves& curves);
 
 // Knot spacing for the plies or the fibers of one yarn curve (tolerances from `options`).
 CurveSampling plan_ply_sampling(const CurveFrames& frames, const YarnDescription& d, const ExplicitOptions& options);

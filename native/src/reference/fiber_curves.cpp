@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "math/rng.h"
-#include "reference/arc_length.h"
+#include "yarn/arc_length.h"
 #include "reference/spline_fit.h"
 #include "yarn/ply_cross_section.h"
 #include "yarn/ply_helix.h"

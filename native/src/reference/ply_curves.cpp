@@ -1,6 +1,6 @@
 #include "reference/ply_curves.h"
 
-#include "reference/arc_length.h"
+#include "yarn/arc_length.h"
 #include "reference/spline_fit.h"
 #include "yarn/ply_helix.h"
 

@@ -70,7 +70,7 @@ struct AlbedoOf {
 }  // namespace
 
 DenoisingAlbedo denoising_albedo(const ShadingPoint& sp, Vec3 wo_world) {
-    DenoisingAlbedo a = std::visit(AlbedoOf{sp.frame.to_local(wo_world)}, sp.bsdf);
+    DenoisingAlbedo a = sp.bsdf.visit(AlbedoOf{sp.frame.to_local(wo_world)});
     a.total = clamp01(a.total);
     a.sharp = clamp01(a.sharp);
     return a;

@@ -91,11 +91,13 @@ public:
     FarFieldBsdf(const FarFieldTable& table, const BysdfParams& colors);
 
     float pass_fraction(Vec3 wo) const;
-    Vec3 eval(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi).f; }
+    // The table holds the attenuated integrand: the shading point's exit is not needed.
+    Vec3 eval(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return evaluate(wo, wi).f; }
     float pdf(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi).pdf; }
-    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi); }
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return evaluate(wo, wi); }
     // u_lobe picks the theta_o node and then specular or body; u the cell and the point in it.
     std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const;
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery*) const { return sample(wo, u_lobe, u); }
 
 private:
     BsdfEvalPdf evaluate(Vec3 wo, Vec3 wi) const;

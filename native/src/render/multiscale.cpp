@@ -310,10 +310,10 @@ BsdfEvalPdf MultiscaleBysdf::component_eval(const Component& c, Vec3 wo_k, Vec3 
             *crossed = c.crossing_colors.product(plies);
             plies.others = 0;
         }
-        return c.bsdf->eval_pdf(wo_k, wi_k, chord, &plies);
+        return c.bsdf->eval_pdf(wo_k, wi_k, {chord, &plies});
     }
     const float chord = wo_k.z * wi_k.z < 0 ? chord_in_radii(c.offset, axis_tangent_, wi) : 0.0f;
-    return c.bsdf->eval_pdf(wo_k, wi_k, chord);
+    return c.bsdf->eval_pdf(wo_k, wi_k, {chord});
 }
 
 Vec3 MultiscaleBysdf::component_integrand(int k, Vec3 wo, Vec3 wi, float* pdf, Vec3* crossed) const {
@@ -335,7 +335,7 @@ BsdfEvalPdf MultiscaleBysdf::evaluate(Vec3 wo, Vec3 wi) const {
     return out;
 }
 
-std::optional<BsdfSample> MultiscaleBysdf::sample(Vec3 wo, float u_lobe, Vec2 u) const {
+std::optional<BsdfSample> MultiscaleBysdf::sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery*) const {
     if (count_ == 0) return std::nullopt;
     // Pick h_k by its weight and stretch u_lobe back to [0, 1) for the BYSDF's own lobe choice.
     int k = 0;

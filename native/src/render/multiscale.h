@@ -142,13 +142,14 @@ public:
     float t() const { return t_; }
 
     // Local (reference-frame) directions, pointing away. f~ (1/sr) such that f~ |wi.z| is the
-    // footprint-averaged integrand; attenuation through the yarn is included (no chord argument).
-    Vec3 eval(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi).f; }
+    // footprint-averaged integrand; attenuation through the yarn is included, each h_k along its
+    // own chord, so the shading point's exit is not needed (render/scattering.h).
+    Vec3 eval(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return evaluate(wo, wi).f; }
     float pdf(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi).pdf; }
-    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi) const { return evaluate(wo, wi); }
+    BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& = {}) const { return evaluate(wo, wi); }
     // Picks h_k by w_k with u_lobe (rescaled, reused for the lobe), samples its BYSDF. f and
     // pdf are the whole mixture's, attenuated: use them as they are.
-    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u) const;
+    std::optional<BsdfSample> sample(Vec3 wo, float u_lobe, Vec2 u, ExitQuery* = nullptr) const;
 
     // Diagnostics and tests.
     MultiscaleMode mode() const { return mode_; }

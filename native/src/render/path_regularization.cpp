@@ -10,14 +10,7 @@ float regularization_alpha(float filter_glossy, float min_bounce_pdf) {
 }
 
 void roughen(ShadingPoint& sp, float min_alpha) {
-    if (!(min_alpha > 0)) return;
-    if (Bysdf* b = std::get_if<Bysdf>(&sp.bsdf)) {
-        b->roughen(min_alpha);
-    } else if (PlaceholderYarnBsdf* p = std::get_if<PlaceholderYarnBsdf>(&sp.bsdf)) {
-        p->roughness = std::max(p->roughness, std::sqrt(min_alpha));  // its alpha is roughness^2
-    }
-    // Diffuse meshes have nothing to roughen; the fiber reference stays exact (it is a reference),
-    // and the multi-scale and far-field models shade camera hits only.
+    if (min_alpha > 0) sp.bsdf.roughen(min_alpha);
 }
 
 }  // namespace purl

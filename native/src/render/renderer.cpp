@@ -15,7 +15,6 @@
 
 #include "math/ray_spawn.h"
 #include "math/rng.h"
-#include "reference/explicit_models.h"
 #include "render/denoise.h"
 #include "render/denoising_features.h"
 #include "render/film.h"
@@ -60,9 +59,13 @@ void check_film_size(const FilmDesc& film, const std::string& source) {
 
 // The scene as rendered: centred on its cloth (render/render_origin.h), then made explicit when
 // the render asks for the ply or fiber reference.
-SceneDesc scene_to_render(SceneDesc scene) {
+SceneDesc scene_to_render(SceneDesc scene, ExplicitSceneBuilder make_explicit) {
     move_to_render_origin(scene, render_origin(scene));
-    return scene.render.model == YarnModel::Bysdf ? std::move(scene) : make_explicit_scene(scene, scene.render.model);
+    if (scene.render.model == YarnModel::Bysdf) return scene;
+    if (!make_explicit)
+        throw InputError(scene.source, "render.model",
+                         "the ply and fiber references need the explicit scene builder (reference/explicit_models.h)");
+    return make_explicit(scene, scene.render.model);
 }
 
 }  // namespace
@@ -73,8 +76,8 @@ struct Renderer::PathTotals {
     uint64_t h_samples = 0;
 };
 
-Renderer::Renderer(SceneDesc scene)
-    : scene_(scene_to_render(std::move(scene))), camera_(scene_.camera, scene_.film) {
+Renderer::Renderer(SceneDesc scene, ExplicitSceneBuilder make_explicit)
+    : scene_(scene_to_render(std::move(scene), make_explicit)), camera_(scene_.camera, scene_.film) {
     check_film_size(scene_.film, scene_.source);
     const auto start = Clock::now();
     geometry_ = std::make_unique<EmbreeScene>(scene_);
@@ -110,7 +113,7 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     control.pixels_total = uint64_t(width) * height;
 
     std::atomic<uint64_t> rays{0}, interactions{0}, invalid{0};
-    std::atomic<uint64_t> hits_near{0}, hits_multi{0}, hits_far{0}, h_samples{0};
+    std::atomic<uint64_t> hits_near{0}, hits_multi{0}, hits_far{0}, h_samples{0}, bysdf_evaluations{0};
     // The selector warns once per render (far forced on yarns wider than a pixel); the
     // warning goes into the stats, and front ends show it (CLI: stderr).
     std::mutex warnings_mutex;
@@ -133,6 +136,7 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
             [&](const tbb::blocked_range<int>& range) {
                 for (int tile = range.begin(); tile != range.end(); ++tile) {
                     PathTotals totals;
+                    const uint64_t evaluations_before = bysdf_evaluations_on_this_thread();
                     const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
                     const int x1 = std::min(width, x0 + kTileSize), y1 = std::min(height, y0 + kTileSize);
                     for (int y = y0; y < y1; ++y)
@@ -148,6 +152,7 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
                     hits_multi += totals.hits_by_mode[1];
                     hits_far += totals.hits_by_mode[2];
                     h_samples += totals.h_samples;
+                    bysdf_evaluations += bysdf_evaluations_on_this_thread() - evaluations_before;
                 }
             },
             tbb::simple_partitioner());
@@ -180,6 +185,7 @@ RenderResult Renderer::render(const RenderSettings& settings, RenderControl& con
     s.hits_multi = hits_multi;
     s.hits_far = hits_far;
     s.h_samples = h_samples;
+    s.bysdf_evaluations = bysdf_evaluations;
     s.warnings = warnings;
     return result;
 }
@@ -285,16 +291,14 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             const Vec2 u_light2(rng.next_float(), rng.next_float());
             if (lights_->sample(sp.position, u_light, u_light2, ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
                 const ShadingPoint::Exit exit = sp.leave(ls.wi);
-                float bsdf_pdf = -1.0f;  // given with f by the multi-scale mixture, else asked below
-                const Vec3 f = sp.eval(wo, ls.wi, exit, &bsdf_pdf);
+                const BsdfEvalPdf fp = sp.eval_pdf(wo, ls.wi, exit);  // one evaluation: f and the MIS pdf
                 const float cos_i = std::fabs(dot(ls.wi, sp.frame.n));
-                if (!is_black(f) && cos_i > 0) {
+                if (!is_black(fp.f) && cos_i > 0) {
                     ++totals.rays;
                     const ShadowRay shadow = shadow_ray_to_light(exit.origin, sp.position, ls.wi, ls.distance);
                     if (shadow.empty || !geometry_->occluded(shadow.origin, shadow.direction, 0.0f, shadow.tmax)) {
-                        if (!ls.delta && bsdf_pdf < 0) bsdf_pdf = sp.pdf(wo, ls.wi);
-                        const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, bsdf_pdf);
-                        radiance += throughput * f * ls.radiance * (cos_i * w / ls.pdf);
+                        const float w = ls.delta ? 1.0f : power_heuristic(ls.pdf, fp.pdf);
+                        radiance += throughput * fp.f * ls.radiance * (cos_i * w / ls.pdf);
                     }
                 }
             }

@@ -48,6 +48,9 @@ struct RenderStats {
         const uint64_t hits = hits_near + hits_multi + hits_far;
         return hits ? double(h_samples) / double(hits) : 0.0;
     }
+    // BYSDF evaluations (bsdf/bysdf.h), all of them: near shading, multi-scale components and
+    // far-field misses alike. Per camera sample: bysdf_evaluations / samples.
+    uint64_t bysdf_evaluations = 0;
     std::vector<std::string> warnings;  // e.g. far mode forced on yarns wider than a pixel
     double samples_per_second() const { return render_seconds > 0 ? samples / render_seconds : 0; }
 };
@@ -58,9 +61,15 @@ struct RenderResult {
     bool cancelled = false;
 };
 
+// Makes a (centred) scene explicit for render.model Ply or Fiber: reference/explicit_models.h's
+// make_explicit_scene, passed in by the front doors so that render/ does not depend on the
+// references; it only renders the scene they build.
+using ExplicitSceneBuilder = SceneDesc (*)(const SceneDesc& scene, YarnModel model);
+
 class Renderer {
 public:
-    explicit Renderer(SceneDesc scene);
+    // `make_explicit` is needed when scene.render.model is Ply or Fiber (InputError without).
+    explicit Renderer(SceneDesc scene, ExplicitSceneBuilder make_explicit = nullptr);
     ~Renderer();
     // The scene as rendered: centred on its cloth (its `origin` says where that is in the
     // world, render/render_origin.h), explicit for ply/fiber renders.

@@ -5,11 +5,11 @@
 #include <limits>
 #include <map>
 
+#include "base/input_error.h"
 #include "bsdf/ply_bsdf.h"
 #include "math/bspline.h"
 #include "math/ray_spawn.h"
-#include "reference/explicit_sampling.h"
-#include "base/input_error.h"
+#include "scene/yarn_set_frames.h"
 #include "yarn/yarn_shading_point.h"
 #include "yarn/yarn_tube.h"
 
@@ -87,38 +87,38 @@ void SurfaceShader::pass_through(const SurfaceHit& hit, const Ray& ray, const Cu
                                           ray.direction);
 }
 
-Vec3 ShadingPoint::eval(Vec3 wo_world, Vec3 wi_world, const Exit& exit, float* pdf_out) const {
-    const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
-    if (const Bysdf* b = std::get_if<Bysdf>(&bsdf))
-        return b->eval(wo, wi, exit.chord, exit.crossed ? &exit.plies : nullptr);
-    if (pdf_out) {
-        std::optional<BsdfEvalPdf> r;
-        if (const MultiscaleBysdf* m = std::get_if<MultiscaleBysdf>(&bsdf)) r = m->eval_pdf(wo, wi);
-        if (const FarFieldBsdf* m = std::get_if<FarFieldBsdf>(&bsdf)) r = m->eval_pdf(wo, wi);
-        if (r) {
-            *pdf_out = r->pdf;
-            return r->f;
-        }
-    }
-    return std::visit([&](const auto& model) { return model.eval(wo, wi); }, bsdf);
+BsdfEvalPdf ShadingPoint::eval_pdf(Vec3 wo_world, Vec3 wi_world, const Exit& exit) const {
+    return bsdf.eval_pdf(frame.to_local(wo_world), frame.to_local(wi_world), exit.context());
 }
 
-float ShadingPoint::pdf(Vec3 wo_world, Vec3 wi_world) const {
-    const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
-    return std::visit([&](const auto& model) { return model.pdf(wo, wi); }, bsdf);
-}
+namespace {
+
+// The exit of a sampled direction, asked by the model before it evaluates the sample; kept for
+// the path's next ray.
+class SampleExit final : public ExitQuery {
+public:
+    SampleExit(const ShadingPoint& sp, ShadingPoint::Exit& exit) : sp_(sp), exit_(exit) {}
+    ScatterExit toward(Vec3 wi_local) override {
+        exit_ = sp_.leave(sp_.frame.to_world(wi_local));
+        asked_ = true;
+        return exit_.context();
+    }
+    bool asked() const { return asked_; }
+
+private:
+    const ShadingPoint& sp_;
+    ShadingPoint::Exit& exit_;
+    bool asked_ = false;
+};
+
+}  // namespace
 
 std::optional<BsdfSample> ShadingPoint::sample(Vec3 wo_world, float u_lobe, Vec2 u, Exit& exit) const {
-    const Vec3 wo = frame.to_local(wo_world);
-    std::optional<BsdfSample> s = std::visit([&](const auto& model) { return model.sample(wo, u_lobe, u); }, bsdf);
+    SampleExit query(*this, exit);
+    std::optional<BsdfSample> s = bsdf.sample(frame.to_local(wo_world), u_lobe, u, &query);
     if (!s) return s;
-    const Vec3 wi_local = s->wi;
-    s->wi = frame.to_world(wi_local);
-    exit = leave(s->wi);
-    // The BYSDF samples without knowing the path through the yarn; attenuate now (traced ply
-    // crossing: reflected rays may cross other plies too).
-    if (const Bysdf* b = std::get_if<Bysdf>(&bsdf); b && (s->is_transmission() || exit.crossed))
-        s->f = b->eval(wo, wi_local, exit.chord, exit.crossed ? &exit.plies : nullptr);
+    s->wi = frame.to_world(s->wi);
+    if (!query.asked()) exit = leave(s->wi);  // models that do not attenuate: only the origin
     return s;
 }
 
@@ -140,39 +140,39 @@ SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
         curve_key_base_.push_back(key);
         key += static_cast<uint32_t>(set.curves.curve_count());
         YarnSetData data;
-        if (set.material.model == "bysdf") {
-            const YarnCurves& c = set.curves;
-            data.frames.reserve(c.curve_count());
-            for (size_t i = 0; i < c.curve_count(); ++i) {
-                // Segment indices are global, so the view's base is the set's first point.
-                const uint32_t first_segment = c.segment_offsets[i];
-                data.frames.emplace_back(CurveView::separate_segments(
-                    c.control_points.data(), static_cast<uint32_t>(c.point_count()),
-                    c.segment_first.data() + first_segment, c.segment_count(i), c.closed[i] != 0));
-                data.yarn_twist.push_back(yarn_twist(data.frames.back(), set.material.yarn));
+        const MaterialDesc& m = set.material;
+        switch (m.model) {
+            case MaterialModel::Bysdf:
+                data.frames = yarn_set_frames(set.curves);
+                for (const CurveFrames& f : data.frames) data.yarn_twist.push_back(yarn_twist(f, m.yarn));
+                data.maps = std::make_unique<FiberMaps>(m.yarn);
+                // Yarn colours: the set's own curves.
+                if (set.curves.has_colors()) recolor_bysdf(m.bysdf, set.curves.colors, data);
+                break;
+            case MaterialModel::Ply: {
+                // The ply curves' own frames (for exits through the ply tube), and the yarns they
+                // came from with the same frames, arc lengths and twist as the BYSDF scene.
+                data.frames = yarn_set_frames(set.curves);
+                data.maps = std::make_unique<FiberMaps>(m.yarn);
+                const PlyOrigins& o = m.ply;
+                if (!o.yarns || o.curves.size() != set.curves.curve_count())
+                    throw InputError(scene.source, set.name, "a \"ply\" material needs the origins make_explicit_scene fills in");
+                data.yarn_frames = yarn_set_frames(*o.yarns);
+                data.yarn_arc.reserve(data.yarn_frames.size());
+                for (const CurveFrames& f : data.yarn_frames) {
+                    data.yarn_arc.emplace_back(f);
+                    data.yarn_twist.push_back(yarn_twist(f, m.yarn));
+                }
+                // Yarn colours: the origin yarns'.
+                if (o.yarns->has_colors()) recolor_bysdf(m.bysdf, o.yarns->colors, data);
+                break;
             }
-            data.maps = std::make_unique<FiberMaps>(set.material.yarn);
-        } else if (set.material.model == "ply") {
-            // The ply curves' own frames (for exits through the ply tube), and the yarns they
-            // came from with the same frames, arc lengths and twist as the BYSDF scene.
-            data.frames = yarn_set_frames(set.curves);
-            data.maps = std::make_unique<FiberMaps>(set.material.yarn);
-            const PlyOrigins& o = set.material.ply;
-            if (!o.yarns || o.curves.size() != set.curves.curve_count())
-                throw InputError(scene.source, set.name, "a \"ply\" material needs the origins make_explicit_scene fills in");
-            data.yarn_frames = yarn_set_frames(*o.yarns);
-            data.yarn_arc.reserve(data.yarn_frames.size());
-            for (const CurveFrames& f : data.yarn_frames) {
-                data.yarn_arc.emplace_back(f);
-                data.yarn_twist.push_back(yarn_twist(f, set.material.yarn));
-            }
-        } else if (set.material.model == "fiber") {
-            data.fiber = std::make_unique<FiberBcsdf>(set.material.fiber);
+            case MaterialModel::Fiber:
+                data.fiber = std::make_unique<FiberBcsdf>(m.fiber);
+                break;
+            case MaterialModel::Placeholder:
+                break;
         }
-        // Yarn colours: the BYSDF sets' own curves, the "ply" sets' origin yarns.
-        const YarnCurves* colored = set.material.model == "ply" ? set.material.ply.yarns.get() : &set.curves;
-        if ((set.material.model == "bysdf" || set.material.model == "ply") && colored && colored->has_colors())
-            recolor_bysdf(set.material.bysdf, colored->colors, data);
         yarn_sets_.push_back(std::move(data));
     }
 }
@@ -210,21 +210,11 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
         return out;
     }
     const MaterialDesc& m = scene_.yarns[hit.object].material;
-    if (m.model == "placeholder") {
-        sp.frame = Frame::from_normal_tangent(n, hit.tangent);
-        sp.bsdf = make_placeholder_bsdf(m.placeholder);
-        const YarnCurves& curves = scene_.yarns[hit.object].curves;
-        if (curves.has_colors())  // same rule as the BYSDF body albedos (docs/bysdf.md)
-            std::get<PlaceholderYarnBsdf>(sp.bsdf).color = recolored_albedo(m.placeholder.color, curves.colors[hit.curve]);
-        return out;
-    }
-    if (m.model == "ply") {
-        shade_ply(hit, ray, yarn_sets_[hit.object], m, out);
-        return out;
-    }
-    if (m.model == "fiber") {
-        shade_fiber(hit, wo, n, yarn_sets_[hit.object], sp);
-        return out;
+    switch (m.model) {
+        case MaterialModel::Placeholder: shade_placeholder(hit, n, m, sp); return out;
+        case MaterialModel::Ply: shade_ply(hit, ray, yarn_sets_[hit.object], m, out); return out;
+        case MaterialModel::Fiber: shade_fiber(hit, wo, n, yarn_sets_[hit.object], sp); return out;
+        case MaterialModel::Bysdf: break;
     }
     // BYSDF: find the ply and fiber under the tube hit.
     const YarnSetData& data = yarn_sets_[hit.object];
@@ -253,8 +243,9 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
     bp.plies_crossed = std::max(1, y.plies_crossed);
     bp.ply_index = y.ply_index;
     bp.mean_fiber_shadow = data.maps->mean_fiber_shadowing();
-    sp.bsdf = Bysdf(data.bysdf(m, hit.curve), bp);
-    if (std::get<Bysdf>(sp.bsdf).traces_plies()) {
+    const Bysdf bysdf(data.bysdf(m, hit.curve), bp);
+    sp.bsdf = bysdf;
+    if (bysdf.traces_plies()) {
         sp.yarn = &m.yarn;
         sp.ply = y.ply_index;
         sp.section = ply_section(frames.evaluate(y.segment, y.t), m.yarn, data.yarn_twist[hit.curve], y.ply_index,
@@ -391,6 +382,15 @@ void SurfaceShader::shade_ply(const SurfaceHit& hit, const Ray& ray, const YarnS
     sp.t = c.t;
     sp.yarn_radius = c.point.radius / std::max(m.yarn.ply_radius, 1e-6f);  // chords stay per yarn radius
     sp.bsdf = make_ply_bsdf(data.bysdf(m, o.yarn_curve), y.fiber_shadowing, o.ply);
+}
+
+void SurfaceShader::shade_placeholder(const SurfaceHit& hit, Vec3 normal, const MaterialDesc& m, ShadingPoint& sp) const {
+    sp.frame = Frame::from_normal_tangent(normal, hit.tangent);
+    PlaceholderYarnBsdf placeholder = make_placeholder_bsdf(m.placeholder);
+    const YarnCurves& curves = scene_.yarns[hit.object].curves;
+    if (curves.has_colors())  // same rule as the BYSDF body albedos (docs/bysdf.md)
+        placeholder.color = recolored_albedo(m.placeholder.color, curves.colors[hit.curve]);
+    sp.bsdf = placeholder;
 }
 
 void SurfaceShader::shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data,

@@ -1,7 +1,7 @@
 // Turns a surface hit into a scattering event: a model in a local frame plus the rule for
 // where rays leave. Yarns with the BYSDF go through the implicit geometry first (plies,
 // fibers, shadowing); a ray that meets no ply passes through the yarn. The explicit references
-// (reference/explicit_models.h): "ply" curves take the BYSDF at ply level with fiber detail from
+// (built by reference/explicit_models.h before the render): "ply" curves take the BYSDF at ply level with fiber detail from
 // the same maps and leave through their own tube; "fiber" curves take the fiber BCSDF and leave
 // through the fiber's local cylinder.
 #pragma once
@@ -10,24 +10,20 @@
 #include <variant>
 #include <vector>
 
-#include "bsdf/bysdf.h"
-#include "bsdf/fiber_bcsdf.h"
-#include "bsdf/placeholder.h"
 #include "math/frame.h"
 #include "math/ray.h"
 #include "render/far_field.h"
 #include "render/multiscale.h"
-#include "reference/arc_length.h"
+#include "render/scattering.h"
 #include "scene/embree_scene.h"
 #include "scene/scene.h"
+#include "yarn/arc_length.h"
 #include "yarn/curve_frames.h"
 #include "yarn/fiber_maps.h"
 #include "yarn/ply_crossings.h"
 #include "yarn/ply_helix.h"
 
 namespace purl {
-
-using SurfaceBsdf = std::variant<DiffuseBsdf, PlaceholderYarnBsdf, Bysdf, FiberBcsdfRef, MultiscaleBysdf, FarFieldBsdf>;
 
 // Multi-scale shading of a camera ray's hit (the ray carries differentials): the render's
 // selector and two per-hit random numbers (h strata jitter, pass-through choice).
@@ -38,7 +34,7 @@ struct MultiscaleHitContext {
 
 struct ShadingPoint {
     Frame frame;          // world <-> local; local +z is the shading normal
-    SurfaceBsdf bsdf = DiffuseBsdf{};
+    Scattering bsdf = DiffuseBsdf{};  // the model, behind render/scattering.h
     bool holdout = false;
     Vec3 position;        // where light scatters (on a ply, for implicit yarns)
 
@@ -66,15 +62,14 @@ struct ShadingPoint {
         float chord = 0; // path inside the yarn, in yarn radii (0 on surfaces)
         bool crossed = false;  // `plies` holds what the ray crosses (traced ply crossing)
         PlyCrossings plies;
+        ScatterExit context() const { return {chord, crossed ? &plies : nullptr}; }  // what models read
     };
     Exit leave(Vec3 wi_world) const;
 
-    // `pdf_out`: models that get the pdf with f in one pass (the multi-scale mixture visits all
-    // its components for either, the far-field table the same cell) store it there; the others
-    // leave it as it was.
-    Vec3 eval(Vec3 wo_world, Vec3 wi_world, const Exit& exit, float* pdf_out = nullptr) const;
-    float pdf(Vec3 wo_world, Vec3 wi_world) const;
-    // The sample's f is final: for a transmission through a yarn, attenuated along `exit`.
+    // f and the density of `sample` toward wi in one evaluation, attenuated along `exit`
+    // (leave(wi_world)): next-event estimation.
+    BsdfEvalPdf eval_pdf(Vec3 wo_world, Vec3 wi_world, const Exit& exit) const;
+    // A direction with its final f (attenuated along its exit, which `exit` receives) and pdf.
     std::optional<BsdfSample> sample(Vec3 wo_world, float u_lobe, Vec2 u, Exit& exit) const;
 };
 
@@ -129,6 +124,7 @@ private:
     // Far mode with the tabulated far field: no implicit query; scatters at the tube entry.
     void shade_far(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext& context,
                    const FarFieldTable& table, const CentrelineProjection& axis, SurfaceInteraction& out) const;
+    void shade_placeholder(const SurfaceHit& hit, Vec3 normal, const MaterialDesc& m, ShadingPoint& sp) const;
     void shade_fiber(const SurfaceHit& hit, Vec3 wo, Vec3 normal, const YarnSetData& data, ShadingPoint& sp) const;
     // A ray that meets no ply: on through the tube, out at `distance` from the hit.
     static void pass_through(const SurfaceHit& hit, const Ray& ray, const CurveFrames& frames, float distance,

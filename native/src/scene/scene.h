@@ -103,14 +103,18 @@ struct PlyOrigins {
     uint32_t key_base = 0;                    // migration key of yarns' curve 0 in the BYSDF scene
 };
 
+// A yarn set's scattering model, read once from the material's "model" where the scene is read
+// ("bysdf", "placeholder", "fiber": explicit fibers); Ply is made by make_explicit_scene only.
+enum class MaterialModel { Bysdf, Placeholder, Fiber, Ply };
+const char* material_model_name(MaterialModel model);  // as the JSON format spells it
+
 struct MaterialDesc {
-    // "bysdf", "placeholder", "fiber" (explicit fibers), or "ply" (made by make_explicit_scene only)
-    std::string model = "bysdf";
-    PlaceholderParams placeholder;  // used by "placeholder"
-    BysdfParams bysdf;              // used by "bysdf" and "ply": appearance
-    YarnDescription yarn;           // used by "bysdf" and "ply": plies and fibers
-    FiberBcsdfParams fiber = default_fiber_bcsdf_params();  // used by "fiber" and the fibers made from "bysdf"
-    PlyOrigins ply;                 // used by "ply"
+    MaterialModel model = MaterialModel::Bysdf;
+    PlaceholderParams placeholder;  // used by Placeholder
+    BysdfParams bysdf;              // used by Bysdf and Ply: appearance
+    YarnDescription yarn;           // used by Bysdf and Ply: plies and fibers
+    FiberBcsdfParams fiber = default_fiber_bcsdf_params();  // used by Fiber and the fibers made from Bysdf
+    PlyOrigins ply;                 // used by Ply
     MaterialDesc();
 };
 

@@ -212,10 +212,12 @@ void read_fiber_params(JsonObject& o, FiberBcsdfParams& p) {
 
 MaterialDesc read_material(JsonObject o) {
     MaterialDesc m;
-    m.model = o.choice("model", material_models().default_name, choice_names(material_models()));
-    if (m.model == "placeholder") {
+    const std::string model =
+        o.choice("model", material_models().default_name, choice_names(material_models()));
+    m.model = MaterialModel(int(find_choice(material_models(), model)->value));
+    if (m.model == MaterialModel::Placeholder) {
         read_params(o, placeholder_param_table(), m.placeholder);
-    } else if (m.model == "fiber") {
+    } else if (m.model == MaterialModel::Fiber) {
         read_fiber_params(o, m.fiber);  // curves that already are fibers
     } else {
         if (o.has("fiber")) {  // for the fiber-based reference made from this yarn

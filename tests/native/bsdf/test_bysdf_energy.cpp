@@ -123,12 +123,12 @@ TEST(BysdfFurnace, ExtinctionOnlyDimsTransmission) {
     sp.plies_crossed = 2;
     const Bysdf m(p, sp);
     const Vec3 wo = incident(30), reflected(-0.3f, 0.2f, 0.93f), transmitted(-0.2f, 0.1f, -0.97f);
-    EXPECT_EQ(average(m.eval(wo, reflected, 0.0f)), average(m.eval(wo, reflected, 1.7f)));
+    EXPECT_EQ(average(m.eval(wo, reflected, {0.0f})), average(m.eval(wo, reflected, {1.7f})));
     // tau^N_i: the body transmission drops by exp(-0.5 * 1.2)^2.
     BysdfParams body_only = p;
     body_only.specular_transmission_albedo = Vec3(0.0f);
     const Bysdf b(body_only, sp);
-    EXPECT_NEAR(average(b.eval(wo, transmitted, 1.2f)) / average(b.eval(wo, transmitted, 0.0f)),
+    EXPECT_NEAR(average(b.eval(wo, transmitted, {1.2f})) / average(b.eval(wo, transmitted, {0.0f})),
                 std::exp(-2 * 0.5 * 1.2), 1e-5);
     EXPECT_NEAR(m.transmittance(0, 0.4f), std::exp(-2 * 3.0 * 0.4), 1e-6);
 }
@@ -157,7 +157,7 @@ TEST(BysdfFurnace, TracedCrossingAttenuatesByThePliesCrossed) {
     PlyCrossings alone;
     alone.own = 0.7f;
     for (Vec3 wi : {reflected, transmitted}) {
-        const Vec3 a = m.eval(wo, wi, 1.3f, &alone), b = unshadowed.eval(wo, wi, 0.7f);
+        const Vec3 a = m.eval(wo, wi, {1.3f, &alone}), b = unshadowed.eval(wo, wi, {0.7f});
         EXPECT_NEAR(a.x, b.x, 1e-6f * std::max(1.0f, b.x));
     }
     // Two more plies: every lobe times A_1 A_2, each A_k < 1.
@@ -171,13 +171,13 @@ TEST(BysdfFurnace, TracedCrossingAttenuatesByThePliesCrossed) {
         EXPECT_LT((&a2.x)[c], (&a1.x)[c] + 1e-7f);  // the longer path passes less
     }
     for (Vec3 wi : {reflected, transmitted}) {
-        const Vec3 f2 = m.eval(wo, wi, 1.3f, &two), f0 = m.eval(wo, wi, 1.3f, &alone);
+        const Vec3 f2 = m.eval(wo, wi, {1.3f, &two}), f0 = m.eval(wo, wi, {1.3f, &alone});
         EXPECT_NEAR(f2.x, f0.x * a1.x * a2.x, 1e-6f * std::max(1.0f, f0.x));
     }
     // A white ply without extinction passes everything on; the paper ignores PlyCrossings.
     const Bysdf white(white_bysdf_params(0.5f), sp);
     EXPECT_NEAR(average(white.other_plies_transmission(two)), 1.0f, 1e-5f);
-    EXPECT_EQ(average(unshadowed.eval(wo, reflected, 0.0f, &two)), average(unshadowed.eval(wo, reflected)));
+    EXPECT_EQ(average(unshadowed.eval(wo, reflected, {0.0f, &two})), average(unshadowed.eval(wo, reflected)));
 }
 
 }  // namespace

@@ -78,7 +78,7 @@ FuzzReport fuzz(int64_t iterations, uint64_t seed) {
         const Vec3 wo = fuzz_direction(rng, direction_with_cos(rng, 2 * rng.next_float() - 1));
         const Vec3 wi = fuzz_direction(rng, wo);
         const float chord = pick(rng, {0.0f, 1e-30f, 0.5f, 2.0f, 1e30f, INFINITY});
-        const BsdfEvalPdf ep = m.eval_pdf(wo, wi, chord);
+        const BsdfEvalPdf ep = m.eval_pdf(wo, wi, {chord});
         const auto s = m.sample(wo, rng.next_float(), {rng.next_float(), rng.next_float()});
         report.calls += 2;
         bool ok = good(ep.f) && good(ep.pdf);

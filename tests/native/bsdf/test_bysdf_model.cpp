@@ -112,7 +112,7 @@ TEST(BysdfLobes, TwoSidedByMirroring) {
     for (int i = 0; i < 200; ++i) {
         const Vec3 wo = direction_with_cos(rng, rng.next_float()), wi = direction_with_cos(rng, 2 * rng.next_float() - 1);
         const Vec3 wo_m(wo.x, wo.y, -wo.z), wi_m(wi.x, wi.y, -wi.z);
-        EXPECT_EQ(m.eval(wo, wi, 0.5f).y, m.eval(wo_m, wi_m, 0.5f).y);
+        EXPECT_EQ(m.eval(wo, wi, {0.5f}).y, m.eval(wo_m, wi_m, {0.5f}).y);
         EXPECT_EQ(m.pdf(wo, wi), m.pdf(wo_m, wi_m));
         const auto a = m.sample(wo, 0.3f, {0.2f, 0.7f}), b = m.sample(wo_m, 0.3f, {0.2f, 0.7f});
         ASSERT_EQ(a.has_value(), b.has_value());

@@ -15,6 +15,7 @@
 #include "fit/fit_command.h"
 #include "fit/fitter.h"
 #include "fit/preset_file.h"
+#include "reference/explicit_models.h"
 #include "render/renderer.h"
 #include "scene/scene_json.h"
 
@@ -153,7 +154,7 @@ std::vector<float> render_model(const SceneDesc& scene, YarnModel model, int spp
     SceneDesc s = t.scene;
     s.render.spp = spp;
     s.render.seed = seed;
-    Renderer renderer(std::move(s));
+    Renderer renderer(std::move(s), make_explicit_scene);
     RenderControl control;
     const RenderResult r = renderer.render(control);
     const ImagePass* c = r.image.find("Combined");

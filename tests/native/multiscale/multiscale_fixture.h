@@ -100,10 +100,10 @@ inline Vec3 near_field_integrand(const StraightYarn& s, const YarnTubeHit& hit, 
         const PlySection section = ply_section(s.frames.evaluate(y.segment, y.t), s.description,
                                                yarn_twist(s.frames, s.description), y.ply_index, y.position);
         const PlyCrossings plies = cross_plies(section, s.description, y.ply_index, wi, chord);
-        return b.eval(wo_l, wi_l, chord, &plies) * std::fabs(wi_l.z);
+        return b.eval(wo_l, wi_l, {chord, &plies}) * std::fabs(wi_l.z);
     }
     const float chord = wo_l.z * wi_l.z < 0 ? tube_chord_length(s.frames, y.segment, y.t, y.position, wi) : 0.0f;
-    return b.eval(wo_l, wi_l, chord / radius) * std::fabs(wi_l.z);
+    return b.eval(wo_l, wi_l, {chord / radius}) * std::fabs(wi_l.z);
 }
 
 // The model's f~ |cos_ref| for world directions, times the share of the footprint that hit.

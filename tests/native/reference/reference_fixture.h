@@ -64,7 +64,7 @@ inline YarnSetDesc bysdf_set(YarnCurves curves, const YarnDescription& d, const 
     YarnSetDesc s;
     s.name = name;
     s.curves = std::move(curves);
-    s.material.model = "bysdf";
+    s.material.model = MaterialModel::Bysdf;
     s.material.yarn = d;
     return s;
 }

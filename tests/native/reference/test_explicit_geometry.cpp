@@ -10,7 +10,7 @@
 #include <limits>
 
 #include "math/bspline.h"
-#include "reference/arc_length.h"
+#include "yarn/arc_length.h"
 #include "reference/fiber_curves.h"
 #include "reference/ply_curves.h"
 #include "reference_fixture.h"

@@ -22,7 +22,7 @@ SceneDesc two_set_scene() {
     YarnSetDesc other;
     other.name = "placeholder";
     other.curves = straight_yarn(0.1f, 2.0f);
-    other.material.model = "placeholder";
+    other.material.model = MaterialModel::Placeholder;
     s.yarns.push_back(other);
     s.yarns.push_back(bysdf_set(loop_yarn(0.1f, 4), yarn_preset("B"), "loop"));
     s.yarns.back().material.fiber = fiber_bcsdf_preset("silk");
@@ -38,10 +38,10 @@ TEST(ExplicitScene, ConvertsBysdfSetsAndKeepsEverythingElse) {
     const SceneDesc plies = make_explicit_scene(scene, YarnModel::Ply);
     ASSERT_EQ(plies.yarns.size(), 3u);
     EXPECT_EQ(plies.meshes.size(), 1u);
-    EXPECT_EQ(plies.yarns[0].material.model, "ply");
-    EXPECT_EQ(plies.yarns[1].material.model, "placeholder");
+    EXPECT_EQ(plies.yarns[0].material.model, MaterialModel::Ply);
+    EXPECT_EQ(plies.yarns[1].material.model, MaterialModel::Placeholder);
     EXPECT_EQ(plies.yarns[1].curves.point_count(), scene.yarns[1].curves.point_count());
-    EXPECT_EQ(plies.yarns[2].material.model, "ply");
+    EXPECT_EQ(plies.yarns[2].material.model, MaterialModel::Ply);
     EXPECT_EQ(plies.yarns[0].curves.curve_count(), 3u);
     EXPECT_EQ(plies.yarns[2].curves.curve_count(), 3u);  // Zhao's B has 3 plies
     const PlyOrigins& o = plies.yarns[2].material.ply;
@@ -53,7 +53,7 @@ TEST(ExplicitScene, ConvertsBysdfSetsAndKeepsEverythingElse) {
     EXPECT_TRUE(plies.yarns[2].curves.closed[0]);
 
     const SceneDesc fibers = make_explicit_scene(scene, YarnModel::Fiber);
-    EXPECT_EQ(fibers.yarns[0].material.model, "fiber");
+    EXPECT_EQ(fibers.yarns[0].material.model, MaterialModel::Fiber);
     EXPECT_EQ(fibers.yarns[0].curves.curve_count(), size_t(3 * 25));
     EXPECT_EQ(fibers.yarns[2].curves.curve_count(), size_t(3 * 75));
     EXPECT_EQ(fibers.yarns[2].material.fiber.reflection_width, fiber_bcsdf_preset("silk").reflection_width);

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "math/bspline.h"
-#include "reference/arc_length.h"
+#include "yarn/arc_length.h"
 #include "reference/explicit_sampling.h"
 #include "reference/spline_fit.h"
 #include "reference_fixture.h"

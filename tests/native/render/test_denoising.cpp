@@ -108,12 +108,12 @@ TEST(PathRegularization, RougheningWidensTheHighlightAndKeepsItsEnergy) {
     ShadingPoint sp;
     sp.bsdf = Bysdf(p, BysdfShadingPoint{});
     const Vec3 wo = normalize(Vec3(0.3f, 0.1f, 1.0f)), mirror(-wo.x, -wo.y, wo.z);
-    const float peak = max_component(sp.eval(wo, mirror, ShadingPoint::Exit{}));
+    const float peak = max_component(sp.eval_pdf(wo, mirror, ShadingPoint::Exit{}).f);
     Vec3 lobes_before[4], lobes_after[4];
-    std::get<Bysdf>(sp.bsdf).lobe_albedos(wo, lobes_before);
+    sp.bsdf.get_if<Bysdf>()->lobe_albedos(wo, lobes_before);
     roughen(sp, 0.5f);
-    EXPECT_LT(max_component(sp.eval(wo, mirror, ShadingPoint::Exit{})), 0.5f * peak);
-    std::get<Bysdf>(sp.bsdf).lobe_albedos(wo, lobes_after);
+    EXPECT_LT(max_component(sp.eval_pdf(wo, mirror, ShadingPoint::Exit{}).f), 0.5f * peak);
+    sp.bsdf.get_if<Bysdf>()->lobe_albedos(wo, lobes_after);
     for (int i = 0; i < 4; ++i) EXPECT_EQ(lobes_before[i].x, lobes_after[i].x);
 }
 

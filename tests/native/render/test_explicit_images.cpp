@@ -18,6 +18,7 @@
 
 #include "support/reference_images.h"
 #include "io/image_io.h"
+#include "reference/explicit_models.h"
 #include "render/renderer.h"
 #include "scene/scene_json.h"
 
@@ -34,7 +35,7 @@ ImageRGB render_rgb(SceneDesc scene, YarnModel model, uint64_t seed) {
     scene.render.model = model;
     scene.render.seed = seed;
     scene.render.threads = 2;
-    const Renderer renderer(std::move(scene));
+    const Renderer renderer(std::move(scene), make_explicit_scene);
     RenderControl control;
     return combined_rgb(renderer.render(control));
 }

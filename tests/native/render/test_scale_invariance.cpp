@@ -28,6 +28,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "reference/explicit_models.h"
 #include "render/renderer.h"
 #include "scene/scene_json.h"
 
@@ -140,7 +141,7 @@ double mean_rgb(SceneDesc scene, YarnModel model, uint64_t seed, Shot shot) {
     scene.render.threads = 2;
     scene.film.width = shot.width;
     scene.film.height = shot.height;
-    const Renderer renderer(std::move(scene));
+    const Renderer renderer(std::move(scene), make_explicit_scene);
     RenderControl control;
     const RenderResult r = renderer.render(control);
     const ImagePass* p = r.image.find("Combined");

@@ -78,7 +78,7 @@ SceneDesc degenerate_scene(const std::string& material, bool zero_length_loop = 
     s.lights.push_back(sun);
     YarnSetDesc y;
     y.curves = degenerate_curves(zero_length_loop);
-    y.material.model = material;
+    y.material.model = material == "placeholder" ? MaterialModel::Placeholder : MaterialModel::Bysdf;
     s.yarns.push_back(y);
     validate_curves(s.yarns[0].curves, "degenerate");  // the readers would accept these
     return s;

@@ -30,7 +30,7 @@ SceneDesc lit_scene(YarnCurves curves, Vec3 eye, Vec3 target, int width, int hei
     s.lights.push_back(area);
     YarnSetDesc y;
     y.curves = std::move(curves);
-    y.material.model = "bysdf";  // the default material: prototype plies and fibers
+    y.material.model = MaterialModel::Bysdf;  // the default material: prototype plies and fibers
     s.yarns.push_back(std::move(y));
     return s;
 }

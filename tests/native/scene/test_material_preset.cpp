@@ -54,7 +54,7 @@ TEST_F(MaterialPresetTest, PresetFileRelativeToTheScene) {
 
 TEST_F(MaterialPresetTest, FiberModelKeepsItsOwnPresets) {
     const MaterialDesc m = scene_with(R"({"model": "fiber", "preset": "silk"})").yarns[0].material;
-    EXPECT_EQ(m.model, "fiber");
+    EXPECT_EQ(m.model, MaterialModel::Fiber);
 }
 
 TEST_F(MaterialPresetTest, ClearErrors) {

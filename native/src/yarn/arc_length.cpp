@@ -1,4 +1,4 @@
-#include "reference/arc_length.h"
+#include "yarn/arc_length.h"
 
 #include <algorithm>
 #include <cmath>
