@@ -88,13 +88,14 @@ def main():
     ap.add_argument("--plies", default="1,3,6")
     ap.add_argument("--refit", action="store_true", help="fit again even when fitted/ holds a result")
     ap.add_argument("--all", action="store_true", help=f"fit {FIT_ALL} (17 unknowns) instead of {FIT_PARAMS}")
+    ap.add_argument("--params", default="", help="fit these unknowns (purl fit names) instead")
     ap.add_argument("--sheet", action="store_true", help="draw docs/images/fig7_fit.png")
     args = ap.parse_args()
     rows, sheet = [], []
     for plies in (int(p) for p in args.plies.split(",")):
         path = fitted_path(plies, args.crossing)
         preset = (json.loads(path.read_text()) if path.exists() and not args.refit
-                  else fit(plies, args.crossing, FIT_ALL if args.all else FIT_PARAMS))
+                  else fit(plies, args.crossing, args.params or (FIT_ALL if args.all else FIT_PARAMS)))
         for light in LIGHTS:
             reference = purlcore.read_image(str(REFERENCES / f"yarn_{plies}ply_{light}.exr"))
             s = scene(plies, light, args.crossing)
