@@ -3,13 +3,14 @@
 explicit-ply references (scenes/fig7/references.py) under front light and back light, then
 check all three lightings (front, back, both) without refitting.
 
-    PYTHONPATH=<builddir> python3 scenes/fig7/fit.py [--crossing 1] [--check-spp 512] [--sheet]
+    PYTHONPATH=<builddir> python3 scenes/fig7/fit.py [--crossing 2] [--check-spp 512] [--sheet]
 
 Writes scenes/fig7/fitted/yarn_<n>ply.json (the fitted material as a preset, with its
 provenance), prints the before/after table of docs/bysdf.md (FLIP against the reference of the
 BYSDF at the scene's own parameters, then with the fitted ones), and with --sheet draws
 docs/images/fig7_fit.png (reference | BYSDF fitted | difference). --crossing 0 runs the same
-with the paper's tau^N_i and G_p (ply_crossing 0), into fitted/paper_yarn_<n>ply.json.
+with the paper's tau^N_i and G_p (ply_crossing 0), into fitted/paper_yarn_<n>ply.json; the default
+is the spread crossing (2), --crossing 1 the traced one (both into fitted/yarn_<n>ply.json).
 
 The fit: effective lobe albedos of the body lobes and the body extinction (axB, ayB, sigma_t;
 7 unknowns, docs/fitting.md), 16 spp, seed 7, 2 x 2 blocks, at most 5 iterations."""
@@ -82,18 +83,19 @@ def fit(plies, crossing, params):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--crossing", type=int, default=1, choices=(0, 1))
+    ap.add_argument("--crossing", type=int, default=2, choices=(0, 1, 2))
     ap.add_argument("--check-spp", type=int, default=512)
     ap.add_argument("--plies", default="1,3,6")
     ap.add_argument("--refit", action="store_true", help="fit again even when fitted/ holds a result")
     ap.add_argument("--all", action="store_true", help=f"fit {FIT_ALL} (17 unknowns) instead of {FIT_PARAMS}")
+    ap.add_argument("--params", default="", help="fit these unknowns (purl fit names) instead")
     ap.add_argument("--sheet", action="store_true", help="draw docs/images/fig7_fit.png")
     args = ap.parse_args()
     rows, sheet = [], []
     for plies in (int(p) for p in args.plies.split(",")):
         path = fitted_path(plies, args.crossing)
         preset = (json.loads(path.read_text()) if path.exists() and not args.refit
-                  else fit(plies, args.crossing, FIT_ALL if args.all else FIT_PARAMS))
+                  else fit(plies, args.crossing, args.params or (FIT_ALL if args.all else FIT_PARAMS)))
         for light in LIGHTS:
             reference = purlcore.read_image(str(REFERENCES / f"yarn_{plies}ply_{light}.exr"))
             s = scene(plies, light, args.crossing)

@@ -43,6 +43,7 @@ def scene(plies, lighting):
                 "model": "bysdf",
                 "body_reflection_albedo": [0.3, 0.1, 0.02],
                 "body_transmission_albedo": [0.6, 0.25, 0.06],
+                "ply_crossing": 2,  # the spread crossing (docs/bysdf.md): closest to the explicit plies
                 "yarn": dict({"preset": "prototype"}, **ply_layout(plies)),
                 "fiber": {"preset": "fleece", "transmission_color": [0.9, 0.45, 0.15]},
             },

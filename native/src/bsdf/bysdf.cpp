@@ -53,6 +53,7 @@ Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
     // Shadowing dims only the body lobes, as in the paper; floors keep plies from going black.
     // Traced ply crossing: the plies that shadow x are crossed by the ray itself, so no G_p.
     traced_ = p.ply_crossing >= 0.5f;
+    spread_ = p.ply_crossing >= 1.5f;
     const float fiber_shadow = std::max(clamp01(point.fiber_shadow), clamp01(p.fiber_shadow_floor));
     const float shadow =
         traced_ ? fiber_shadow : std::max(clamp01(point.ply_shadow), clamp01(p.ply_shadow_floor)) * fiber_shadow;
@@ -92,11 +93,21 @@ Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
     }
 }
 
-Vec3 PlyPassOn::product(const PlyCrossings& plies) const {
+Vec3 PlyPassOn::product(const PlyCrossings& plies) const { return product(plies.others, plies.other); }
+
+Vec3 PlyPassOn::scattered(const PlyCrossings& plies) const {
+    Vec3 sum = plies.others > 0 ? product(plies) : Vec3(0.0f);
+    if (!plies.spread_done) return sum;
+    for (int m = 0; m < kSpreadDirections; ++m)
+        if (plies.spread_others[m] > 0) sum += product(plies.spread_others[m], plies.spread[m]);
+    return sum * (1.0f / (1 + kSpreadDirections));
+}
+
+Vec3 PlyPassOn::product(int count, const float* lengths) const {
     Vec3 t(1.0f);
-    const int n = std::clamp(plies.others, 0, kMaxCrossedPlies);
+    const int n = std::clamp(count, 0, kMaxCrossedPlies);
     for (int k = 0; k < n; ++k) {
-        const float L = std::max(0.0f, plies.other[k]);
+        const float L = std::max(0.0f, lengths[k]);
         const float spec = sigma_specular * L < 100.0f ? std::exp(-sigma_specular * L) : 0.0f;
         const float body = sigma_body * L < 100.0f ? std::exp(-sigma_body * L) : 0.0f;
         t = t * (specular_transmission * spec + body_transmission * body + reflection);
@@ -153,6 +164,12 @@ BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord, const PlyCrossings* p
     // Traced: the hit ply's own path attenuates the transmission lobes, the other plies all.
     const bool crossing = traced_ && plies;
     if (crossing) chord = plies->own;
+    PlyCrossings spread;  // the spread crossing marches its extra directions only now
+    if (crossing && spread_ && !plies->spread_done && plies->yarn) {
+        spread = *plies;
+        add_spread(spread);
+        plies = &spread;
+    }
     if (!(std::fabs(wo.z) > kMinCos && std::fabs(wi.z) > kMinCos)) return out;  // also NaN
     if (wo.z < 0) {  // two-sided: mirror so the viewer is on +z
         wo.z = -wo.z;
@@ -181,7 +198,12 @@ BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord, const PlyCrossings* p
         if (kWithPdf && prob[kSpecularReflection] > 0 && cos_oh > 0)
             out.pdf += prob[kSpecularReflection] * reflection_ggx_.visible_normal_pdf(wo, h) / (4 * cos_oh);
         out.pdf += prob[kBodyReflection] * cos_i * kInvPi;
-        if (crossing && plies->others > 0) out.f = out.f * other_plies_transmission(*plies);
+        if (crossing && spread_) {  // what met another ply arrives diffuse: the lobes' albedo / pi
+            if (plies->others > 0) out.f = Vec3(0.0f);
+            out.f += (k_spec_r_ * fresnel + k_body_r_ * r) * kInvPi * pass_on_.scattered(*plies);
+        } else if (crossing && plies->others > 0) {
+            out.f = out.f * other_plies_transmission(*plies);
+        }
         return out;
     }
 
@@ -204,7 +226,14 @@ BsdfEvalPdf Bysdf::evaluate(Vec3 wo, Vec3 wi, float chord, const PlyCrossings* p
     const float r = body_reflection_share(cos_o);
     out.f += k_body_t_ * ((1.0f - r) * kInvPi * transmittance(1, chord));
     out.pdf += prob[kBodyTransmission] * cos_i * kInvPi;
-    if (crossing && plies->others > 0) out.f = out.f * other_plies_transmission(*plies);
+    if (crossing && spread_) {
+        if (plies->others > 0) out.f = Vec3(0.0f);
+        out.f += (k_spec_t_ * ((1.0f - fresnel) * transmittance(0, chord)) +
+                  k_body_t_ * ((1.0f - r) * transmittance(1, chord))) *
+                 kInvPi * pass_on_.scattered(*plies);
+    } else if (crossing && plies->others > 0) {
+        out.f = out.f * other_plies_transmission(*plies);
+    }
     return out;
 }
 

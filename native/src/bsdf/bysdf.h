@@ -18,6 +18,10 @@
 // passes on, A_k = (1-B) k_y^S (1-F_avg) e^(-sigma_tS L_k) + (1-r0) B G_k k_y^B e^(-sigma_tB L_k)
 // + (1-B) k_x^S F_avg + r0 B G_k k_x^B (its transmission plus its reflection: exact when the
 // light around that ply is the same on both sides), G_k = max(mean G_f, floor_f).
+// ply_crossing 2 (spread) keeps the lobes as they are for light that meets no other ply, and
+// for light another ply has scattered uses the lobes' albedos on wi's side over pi (that light
+// arrives diffuse), times the product of A_k averaged over the ray and kSpreadDirections
+// directions around it (a ply's glow reaches the hit from beside the straight line too).
 // The surface is two-sided: when wo.z < 0 both directions are mirrored through z = 0.
 // Deviations from the paper and the renderer contract are in docs/bysdf.md.
 #pragma once
@@ -49,6 +53,10 @@ struct PlyPassOn {
     Vec3 reflection;                                // both reflection lobes
     float sigma_specular = 0, sigma_body = 0;       // per yarn radius
     Vec3 product(const PlyCrossings& plies) const;  // over the other plies crossed (1 when none)
+    Vec3 product(int count, const float* lengths) const;
+    // Light the other plies scatter toward the hit: the product over the plies crossed, averaged
+    // over the ray and its spread directions (0 where a direction meets no other ply).
+    Vec3 scattered(const PlyCrossings& plies) const;
 };
 
 // BYSDF evaluations (eval, pdf, eval_pdf, sample: one each) made on the calling thread so far:
@@ -73,7 +81,7 @@ public:
     BsdfEvalPdf eval_pdf(Vec3 wo, Vec3 wi, const ScatterExit& exit = {}) const {
         return evaluate<true>(wo, wi, exit.chord, exit.plies);
     }
-    bool traces_plies() const { return traced_; }  // ply_crossing 1: wants PlyCrossings
+    bool traces_plies() const { return traced_; }  // ply_crossing 1, 2: wants PlyCrossings
 
     // Chooses a lobe with u_lobe in [0, 1), then a direction with u in [0, 1)^2. With `exit`,
     // the sampled direction's exit is asked before the one evaluation, so f comes out
@@ -117,6 +125,7 @@ private:
     float ls_weight_ = 1.0f;
     float extinction_spec_ = 0, extinction_body_ = 0;  // sigma_t N_i (paper) or sigma_t (traced), per unit chord
     bool traced_ = false;
+    bool spread_ = false;  // ply_crossing 2: light other plies scattered arrives diffuse, from around the ray
     float sigma_spec_ = 0, sigma_body_ = 0;  // sigma_t per yarn radius
     PlyPassOn pass_on_;  // traced: A_k's parts
 };

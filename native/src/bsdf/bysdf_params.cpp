@@ -71,9 +71,10 @@ std::vector<ParamInfo> build_table() {
                offsetof(BysdfParams, fiber_shadow_floor)),
     };
     ParamInfo ply_crossing = scalar(
-        "Ply Crossing", "ply_crossing", "", 0.0f, 1.0f, 1.0f,
+        "Ply Crossing", "ply_crossing", "", 0.0f, 2.0f, 1.0f,
         "How light crosses the other plies: 0 the paper's tau^N_i over the yarn chord and the G_p map, "
-        "1 traced through the implicit plies on the way out (their extinction and transmission albedo).",
+        "1 traced through the implicit plies on the way out (their extinction and transmission albedo), "
+        "2 traced and spread: light that another ply scattered arrives diffuse, from around the ray.",
         offsetof(BysdfParams, ply_crossing));
     ply_crossing.kind = ParamKind::Integer;
     t.push_back(ply_crossing);

@@ -34,7 +34,7 @@ struct BysdfParams {
     float sigma_t_body;                 // extinction for f_y^B, 1/R
     float ply_shadow_floor;             // lower bound applied to G_p
     float fiber_shadow_floor;           // lower bound applied to G_f
-    float ply_crossing;                 // 0: the paper's tau^N_i and G_p map; 1: traced through the plies
+    float ply_crossing;                 // 0: the paper's tau^N_i and G_p map; 1: traced through the plies; 2: traced, spread
     float ply_color_count;              // number of ply colours in use (integer 1..12)
     Vec3 ply_colors[kMaxPlyColors];     // body-albedo multipliers, ply i uses i % count
 };

@@ -51,6 +51,9 @@ BysdfParams marker_params(const BysdfParams& material) {
     p.specular_reflection_albedo = p.specular_transmission_albedo = Vec3(1, 0, 0);
     p.body_reflection_albedo = p.body_transmission_albedo = Vec3(0, 1, 0);
     for (Vec3& c : p.ply_colors) c = Vec3(1.0f);
+    // The table keeps the plies crossed apart (a product along one direction), which the spread
+    // crossing's average over directions is not: it tabulates the traced crossing instead.
+    p.ply_crossing = std::min(p.ply_crossing, 1.0f);
     return p;
 }
 

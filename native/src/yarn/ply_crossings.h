@@ -21,11 +21,11 @@ namespace purl {
 
 constexpr int kMaxCrossedPlies = 12;  // YarnDescription's ply_count limit
 
-struct PlyCrossings {
-    float own = 0;   // yarn radii inside the ply that was hit
-    int others = 0;  // further plies crossed
-    float other[kMaxCrossedPlies] = {};  // yarn radii inside each of them (first `others`)
-};
+// Spread crossing (ply_crossing 2): light another ply scatters reaches the hit from around the
+// ray, not only along it; four directions tilted by 20 degrees stand for that cone (measured on
+// the 6-ply Fig. 7 yarn: 10-30 degrees give FLIP within 0.003 of each other, docs/bysdf.md).
+constexpr int kSpreadDirections = 4;
+constexpr float kSpreadAngle = 20.0f * kPi / 180.0f;
 
 // A ply hit in the straight-yarn model, every length in yarn radii.
 struct PlySection {
@@ -38,6 +38,21 @@ struct PlySection {
     float stretch = 1;   // YarnTwist::ply_stretch
 };
 
+struct PlyCrossings {
+    float own = 0;   // yarn radii inside the ply that was hit
+    int others = 0;  // further plies crossed
+    float other[kMaxCrossedPlies] = {};  // yarn radii inside each of them (first `others`)
+    // The same along the kSpreadDirections spread directions (through a straight tube), filled
+    // on demand by add_spread from where the ray started (only the spread crossing asks).
+    bool spread_done = false;
+    int spread_others[kSpreadDirections] = {};
+    float spread[kSpreadDirections][kMaxCrossedPlies] = {};
+    const YarnDescription* yarn = nullptr;  // set by cross_plies: what add_spread needs
+    PlySection section{};
+    int hit_ply = 0;
+    Vec3 direction{};
+};
+
 // The section of a hit on ply `ply` at `hit` (m), from the centre-line point of its cross-section.
 PlySection ply_section(const CurvePoint& cross_section, const YarnDescription& d, const YarnTwist& twist, int ply,
                        Vec3 hit);
@@ -45,5 +60,8 @@ PlySection ply_section(const CurvePoint& cross_section, const YarnDescription& d
 // `direction` unit; `chord` yarn radii from the hit to the tube exit along it.
 PlyCrossings cross_plies(const PlySection& section, const YarnDescription& d, int hit_ply, Vec3 direction,
                          float chord);
+
+// Fills the spread directions of crossings made by cross_plies (once; nothing without a yarn).
+void add_spread(PlyCrossings& plies);
 
 }  // namespace purl

@@ -180,5 +180,48 @@ TEST(BysdfFurnace, TracedCrossingAttenuatesByThePliesCrossed) {
     EXPECT_EQ(average(unshadowed.eval(wo, reflected, {0.0f, &two})), average(unshadowed.eval(wo, reflected)));
 }
 
+// Spread crossing: light that met no other ply sees the traced lobes; light another ply scattered
+// arrives diffuse (the lobes' albedo on wi's side over pi), times A_k averaged over the ray and
+// its spread directions.
+TEST(BysdfFurnace, SpreadCrossingMakesScatteredLightDiffuse) {
+    BysdfParams p = default_bysdf_params();
+    p.ply_crossing = 1;
+    p.sigma_t_specular = 3.0f;
+    p.sigma_t_body = 0.5f;
+    BysdfParams q = p;
+    q.ply_crossing = 2;
+    BysdfShadingPoint sp;
+    sp.fiber_shadow = 0.9f;
+    sp.mean_fiber_shadow = 0.8f;
+    const Bysdf traced(p, sp), spread(q, sp);
+    const Vec3 wo = incident(30), reflected(-0.3f, 0.2f, 0.93f), reflected2(0.5f, -0.1f, 0.86f),
+               transmitted(-0.2f, 0.1f, -0.97f), transmitted2(0.4f, 0.3f, -0.87f);
+    PlyCrossings alone;
+    alone.own = 0.4f;
+    alone.spread_done = true;
+    for (Vec3 wi : {reflected, transmitted})
+        EXPECT_EQ(average(spread.eval(wo, wi, {1.0f, &alone})),
+                  average(traced.eval(wo, wi, {1.0f, &alone})));
+    // One other ply on the ray and on one of the four spread directions.
+    PlyCrossings crossed = alone;
+    crossed.others = 1;
+    crossed.other[0] = 0.3f;
+    crossed.spread_others[2] = 1;
+    crossed.spread[2][0] = 0.5f;
+    const Vec3 a_ray = spread.other_plies_transmission({0, 1, {0.3f}});
+    const Vec3 a_side = spread.other_plies_transmission({0, 1, {0.5f}});
+    const Vec3 scattered = (a_ray + a_side) * (1.0f / (1 + kSpreadDirections));
+    Vec3 albedo[4];
+    spread.lobe_albedos(normalize(wo), albedo);
+    const Vec3 refl = spread.eval(wo, reflected, {1.0f, &crossed});
+    const Vec3 trans = spread.eval(wo, transmitted, {1.0f, &crossed});
+    EXPECT_NEAR(refl.x * kPi, (albedo[0].x + albedo[2].x) * scattered.x, 1e-5f);
+    const float own_spec = std::exp(-3.0f * 0.4f), own_body = std::exp(-0.5f * 0.4f);
+    EXPECT_NEAR(trans.x * kPi, (albedo[1].x * own_spec + albedo[3].x * own_body) * scattered.x, 1e-5f);
+    // Diffuse: the same value toward any wi on the same side.
+    EXPECT_NEAR(refl.x, spread.eval(wo, reflected2, {1.0f, &crossed}).x, 1e-6f);
+    EXPECT_NEAR(trans.x, spread.eval(wo, transmitted2, {1.0f, &crossed}).x, 1e-6f);
+}
+
 }  // namespace
 }  // namespace purl::test
