@@ -60,8 +60,9 @@ def flip_of(plies, light):
 
 # The one shot of the nine still above the goal (issue 26, docs/bysdf.md): 0.0500235 with the
 # spread crossing (0.060 with the traced one); what is left sits along the yarn's silhouettes.
+# Not strict: it sits on the goal, and another Embree ISA moves bits that may tip it under.
 OPEN = {(6, "back"): 0.052}
-SHOTS = [pytest.param(p, light, marks=pytest.mark.xfail(strict=True, reason="open: FLIP 0.05002 > 0.05"))
+SHOTS = [pytest.param(p, light, marks=pytest.mark.xfail(strict=False, reason="open: FLIP 0.05002 > 0.05"))
          if (p, light) in OPEN else (p, light) for p in (1, 3, 6) for light in ("front", "back", "both")]
 
 
