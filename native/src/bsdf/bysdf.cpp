@@ -96,21 +96,25 @@ Bysdf::Bysdf(const BysdfParams& p, const BysdfShadingPoint& point) {
 Vec3 PlyPassOn::product(const PlyCrossings& plies) const { return product(plies.others, plies.other); }
 
 Vec3 PlyPassOn::scattered(const PlyCrossings& plies) const {
-    Vec3 sum = plies.others > 0 ? product(plies) : Vec3(0.0f);
+    // On the straight line to the light a crossed ply's reflection leaves on the light's side,
+    // away from the hit: only its transmission gets through. Beside the line (the spread
+    // directions) its reflection can reach the hit too, so those carry the whole A_k.
+    Vec3 sum = plies.others > 0 ? product(plies.others, plies.other, false) : Vec3(0.0f);
     if (!plies.spread_done) return sum;
     for (int m = 0; m < kSpreadDirections; ++m)
         if (plies.spread_others[m] > 0) sum += product(plies.spread_others[m], plies.spread[m]);
     return sum * (1.0f / (1 + kSpreadDirections));
 }
 
-Vec3 PlyPassOn::product(int count, const float* lengths) const {
+Vec3 PlyPassOn::product(int count, const float* lengths, bool with_reflection) const {
     Vec3 t(1.0f);
     const int n = std::clamp(count, 0, kMaxCrossedPlies);
+    const Vec3 reflected = with_reflection ? reflection : Vec3(0.0f);
     for (int k = 0; k < n; ++k) {
         const float L = std::max(0.0f, lengths[k]);
         const float spec = sigma_specular * L < 100.0f ? std::exp(-sigma_specular * L) : 0.0f;
         const float body = sigma_body * L < 100.0f ? std::exp(-sigma_body * L) : 0.0f;
-        t = t * (specular_transmission * spec + body_transmission * body + reflection);
+        t = t * (specular_transmission * spec + body_transmission * body + reflected);
     }
     return t;
 }

@@ -20,8 +20,9 @@
 // light around that ply is the same on both sides), G_k = max(mean G_f, floor_f).
 // ply_crossing 2 (spread) keeps the lobes as they are for light that meets no other ply, and
 // for light another ply has scattered uses the lobes' albedos on wi's side over pi (that light
-// arrives diffuse), times the product of A_k averaged over the ray and kSpreadDirections
-// directions around it (a ply's glow reaches the hit from beside the straight line too).
+// arrives diffuse), times what the other plies pass on, averaged over the ray (their
+// transmission only: a ply's reflection there leaves toward the light) and kSpreadDirections
+// directions around it (their whole A_k: a ply's glow reaches the hit from beside the line).
 // The surface is two-sided: when wo.z < 0 both directions are mirrored through z = 0.
 // Deviations from the paper and the renderer contract are in docs/bysdf.md.
 #pragma once
@@ -53,9 +54,11 @@ struct PlyPassOn {
     Vec3 reflection;                                // both reflection lobes
     float sigma_specular = 0, sigma_body = 0;       // per yarn radius
     Vec3 product(const PlyCrossings& plies) const;  // over the other plies crossed (1 when none)
-    Vec3 product(int count, const float* lengths) const;
+    // `with_reflection` false: each ply passes on its transmission only.
+    Vec3 product(int count, const float* lengths, bool with_reflection = true) const;
     // Light the other plies scatter toward the hit: the product over the plies crossed, averaged
-    // over the ray and its spread directions (0 where a direction meets no other ply).
+    // over the ray (transmission only) and its spread directions (whole A_k), 0 where a
+    // direction meets no other ply.
     Vec3 scattered(const PlyCrossings& plies) const;
 };
 

@@ -181,8 +181,8 @@ TEST(BysdfFurnace, TracedCrossingAttenuatesByThePliesCrossed) {
 }
 
 // Spread crossing: light that met no other ply sees the traced lobes; light another ply scattered
-// arrives diffuse (the lobes' albedo on wi's side over pi), times A_k averaged over the ray and
-// its spread directions.
+// arrives diffuse (the lobes' albedo on wi's side over pi), times what the other plies pass on,
+// averaged over the ray (their transmission) and its spread directions (their whole A_k).
 TEST(BysdfFurnace, SpreadCrossingMakesScatteredLightDiffuse) {
     BysdfParams p = default_bysdf_params();
     p.ply_crossing = 1;
@@ -208,7 +208,12 @@ TEST(BysdfFurnace, SpreadCrossingMakesScatteredLightDiffuse) {
     crossed.other[0] = 0.3f;
     crossed.spread_others[2] = 1;
     crossed.spread[2][0] = 0.5f;
-    const Vec3 a_ray = spread.other_plies_transmission({0, 1, {0.3f}});
+    // On the ray the crossed ply passes on its transmission only (its reflection leaves toward
+    // the light); beside it, its whole A_k.
+    const PlyPassOn& pass = spread.pass_on();
+    const Vec3 a_ray = pass.specular_transmission * std::exp(-3.0f * 0.3f) +
+                       pass.body_transmission * std::exp(-0.5f * 0.3f);
+    EXPECT_LT(a_ray.x, spread.other_plies_transmission({0, 1, {0.3f}}).x);
     const Vec3 a_side = spread.other_plies_transmission({0, 1, {0.5f}});
     const Vec3 scattered = (a_ray + a_side) * (1.0f / (1 + kSpreadDirections));
     Vec3 albedo[4];
