@@ -306,6 +306,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1.0));
     fit->add_option("--block", fit_command.block, "compare b x b block means (less noise bias; default 1)")
         ->check(CLI::Range(1, 64));
+    fit->add_option("--error", fit_command.error,
+                    "what is compared: linear (RGB, the default), relative (RGB over each target's root mean "
+                    "square) or srgb (sRGB-encoded, clamped to [0, 1], as LDR FLIP and a display see it)");
 
     try {
         app.parse(argc, argv);

@@ -159,7 +159,7 @@ const std::vector<ParamInfo>& parameter_table(const std::string& model) {
 py::dict fit_from_python(const py::list& target_list, const py::object& arrays, const std::string& base_dir,
                          const std::string& params, int iterations, std::optional<int> spp,
                          std::optional<long long> seed, int threads, double tolerance, const py::object& progress,
-                         const std::string& name, int block) {
+                         const std::string& name, int block, const std::string& error) {
     std::vector<FitTarget> targets;
     std::vector<FitSource> sources;
     for (size_t i = 0; i < target_list.size(); ++i) {
@@ -209,6 +209,7 @@ py::dict fit_from_python(const py::list& target_list, const py::object& arrays, 
     options.tolerance = tolerance;
     if (block < 1) throw py::value_error("block must be at least 1");
     options.block = block;
+    options.error = fit_error_from_name(error, "error");
     if (!progress.is_none())
         options.progress = [&progress](const FitProgress& p) {
             py::gil_scoped_acquire gil;
@@ -355,6 +356,7 @@ PYBIND11_MODULE(purlcore, m) {
           py::arg("params") = "kxB,kyB,sigma_t", py::arg("iterations") = 20, py::arg("spp") = py::none(),
           py::arg("seed") = py::none(), py::arg("threads") = 0, py::arg("tolerance") = 1e-3,
           py::arg("progress") = py::none(), py::arg("name") = "fitted", py::arg("block") = 1,
+          py::arg("error") = "linear",
           "Fit BYSDF parameters to target images (docs/fitting.md); returns the preset dict, whose "
           "provenance holds the errors. progress(dict) returning False stops early, keeping the best so far.");
     m.def(

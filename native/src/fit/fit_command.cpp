@@ -29,6 +29,7 @@ int run_fit_command(const FitCommand& c) {
     options.threads = c.threads;
     options.tolerance = c.tolerance;
     options.block = c.block;
+    options.error = fit_error_from_name(c.error, "--error");
 
     std::vector<FitTarget> targets;
     std::vector<FitSource> sources;

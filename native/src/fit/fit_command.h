@@ -16,6 +16,7 @@ struct FitCommand {
     long long seed = -1;
     double tolerance = 1e-3;
     int block = 1;
+    std::string error = "linear";  // FitError by name
 };
 
 // Returns the process exit status; throws InputError for bad input.

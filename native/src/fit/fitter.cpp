@@ -63,22 +63,40 @@ public:
             // bias the minimum (E[(X - T)^2] grows with Var X, which shrinks as albedos shrink).
             const int b = std::max(1, options_.block);
             const int bw = (t.width + b - 1) / b, bh = (t.height + b - 1) / b;
-            std::vector<double> diff(size_t(bw) * bh * 3, 0.0), weight(size_t(bw) * bh, 0.0);
+            std::vector<double> rendered(size_t(bw) * bh * 3, 0.0), target(rendered.size(), 0.0),
+                weight(size_t(bw) * bh, 0.0);
             for (int y = 0; y < t.height; ++y)
                 for (int x = 0; x < t.width; ++x) {
                     const size_t i = size_t(y) * t.width + x, k = size_t(y / b) * bw + x / b;
                     const double w = t.weight.empty() ? 1.0 : t.weight[i];
                     weight[k] += w;
-                    for (int c = 0; c < 3; ++c) diff[k * 3 + c] += w * (double(rgb[i * 3 + c]) - t.rgb[i * 3 + c]);
+                    for (int c = 0; c < 3; ++c) {
+                        rendered[k * 3 + c] += w * rgb[i * 3 + c];
+                        target[k * 3 + c] += w * t.rgb[i * 3 + c];
+                    }
                 }
             double total_weight = 0;
             for (double w : weight) total_weight += w;
-            // Each target's weighted MSE (of block means) enters with weight 1 / (number of targets).
-            const double norm = 1.0 / (3.0 * total_weight * double(targets_.size()));
+            // Each target's weighted MSE (of block means) enters with weight 1 / (number of targets);
+            // relative: divided by the target's own mean square, so a dim target counts as much as
+            // a bright one.
+            double norm = 1.0 / (3.0 * total_weight * double(targets_.size()));
+            double scale = 1.0;
+            if (options_.error == FitError::Relative) {
+                double square = 0;
+                for (size_t k = 0; k < weight.size(); ++k)
+                    for (int c = 0; c < 3; ++c)
+                        if (weight[k] > 0) square += target[k * 3 + c] * target[k * 3 + c] / weight[k];
+                square /= 3.0 * total_weight;
+                scale = square > 0 ? 1.0 / std::sqrt(square) : 1.0;
+            }
             double sum = 0;
             for (size_t k = 0; k < weight.size(); ++k)
                 for (int c = 0; c < 3; ++c) {
-                    const double d = weight[k] > 0 ? diff[k * 3 + c] / weight[k] : 0.0;
+                    const size_t j = k * 3 + c;
+                    const double d = weight[k] > 0 ? scale * (encoded(rendered[j] / weight[k]) -
+                                                              encoded(target[j] / weight[k]))
+                                                   : 0.0;
                     r.push_back(std::sqrt(weight[k] * norm) * d);
                     sum += weight[k] * d * d;
                 }
@@ -89,6 +107,12 @@ public:
     int renders() const { return renders_; }
 
 private:
+    double encoded(double linear) const {
+        if (options_.error != FitError::Srgb) return linear;
+        const double v = std::clamp(linear, 0.0, 1.0);
+        return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    }
+
     const std::vector<FitTarget>& targets_;
     BysdfParams start_;
     const FitOptions& options_;
@@ -123,6 +147,17 @@ std::vector<float> render_target(const FitTarget& target, const BysdfParams& par
     for (size_t i = 0; i < pixels; ++i)
         for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = combined->pixels[i * channels + c];
     return rgb;
+}
+
+FitError fit_error_from_name(const std::string& name, const std::string& where) {
+    if (name == "linear") return FitError::Linear;
+    if (name == "relative") return FitError::Relative;
+    if (name == "srgb") return FitError::Srgb;
+    throw InputError(where, "", "unknown error measure '" + name + "' (linear, relative or srgb)");
+}
+
+const char* fit_error_name(FitError error) {
+    return error == FitError::Srgb ? "srgb" : error == FitError::Relative ? "relative" : "linear";
 }
 
 double target_error(const FitTarget& target, const std::vector<float>& rgb) {

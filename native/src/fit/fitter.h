@@ -1,7 +1,7 @@
 // Fits BYSDF parameters so that renders of one or more target scenes match their images.
 //
 // Objective: the pixel-wise mean squared error of the Combined RGB (optionally of b x b block
-// means), weighted by each target's mask, averaged over the targets (so front-lit and back-lit images count alike whatever
+// means; linear, or sRGB-encoded and clamped: FitError), weighted by each target's mask, averaged over the targets (so front-lit and back-lit images count alike whatever
 // their size). Optimiser: Levenberg-Marquardt on the per-pixel residuals, with forward-
 // difference Jacobians. Every render uses the same seed and sample count (common random
 // numbers), so the objective is a deterministic, nearly smooth function of the parameters
@@ -30,6 +30,14 @@ struct FitProgress {
     int column = 0, columns = 0;  // "jacobian": finite differences done in this iteration, of
 };
 
+// What a residual compares: linear RGB; linear RGB over the target's own root mean square (a dim
+// target, e.g. front light beside back light, counts as much as a bright one); or sRGB-encoded
+// values clamped to [0, 1], as LDR FLIP and a display see them (dark regions count as much as
+// highlights; values above 1 are the same white).
+enum class FitError { Linear, Relative, Srgb };
+FitError fit_error_from_name(const std::string& name, const std::string& where);  // "linear" | "relative" | "srgb"
+const char* fit_error_name(FitError error);
+
 struct FitOptions {
     std::vector<FitUnknown> unknowns;
     int max_iterations = 20;     // Jacobian evaluations
@@ -39,6 +47,7 @@ struct FitOptions {
     double tolerance = 1e-3;     // stop when an accepted step lowers the error by less than this fraction
     double step = 0.02;          // finite-difference step in the unit cube
     int block = 1;               // compare b x b block means (1: single pixels)
+    FitError error = FitError::Linear;
     // Called after every step; returning false stops the fit (the best parameters so far are kept).
     std::function<bool(const FitProgress&)> progress;
 };

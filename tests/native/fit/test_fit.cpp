@@ -5,6 +5,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -144,6 +145,49 @@ TEST(Fit, RecoversKnownParametersWithinFivePercent) {
     }
     // The error never rises: steps are only taken when they lower it.
     for (size_t i = 1; i < result.history.size(); ++i) EXPECT_LE(result.history[i], result.history[i - 1]);
+}
+
+double srgb_encoded(double linear) {
+    const double v = std::clamp(linear, 0.0, 1.0);
+    return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+}
+
+// --error: linear is the mean squared difference; relative divides it by the target's mean
+// square; srgb compares sRGB-encoded values clamped to [0, 1], so a target twice as bright
+// (highlights past white) costs what a display would show.
+TEST(Fit, SrgbErrorComparesEncodedClampedValues) {
+    const BysdfParams truth = small_scene("front").yarns[0].material.bysdf;
+    FitTarget target = synthetic_target("front", truth, 8, 3);
+    const std::vector<float> rendered = target.rgb;
+    for (float& v : target.rgb) v *= 2.0f;
+    double linear = 0, encoded = 0;
+    for (size_t i = 0; i < rendered.size(); ++i) {
+        linear += std::pow(double(rendered[i]) - 2.0 * rendered[i], 2);
+        encoded += std::pow(srgb_encoded(rendered[i]) - srgb_encoded(2.0 * rendered[i]), 2);
+    }
+    linear /= double(rendered.size());
+    encoded /= double(rendered.size());
+    ASSERT_GT(std::fabs(encoded - linear), 0.1 * encoded);  // the two measures really differ here
+    double target_square = 0;
+    for (float v : target.rgb) target_square += double(v) * v;
+    target_square /= double(target.rgb.size());
+    for (FitError error : {FitError::Linear, FitError::Relative, FitError::Srgb}) {
+        FitOptions options;
+        options.unknowns = parse_fit_parameters("sigma_t", "test");
+        options.spp = 8;
+        options.seed = 3;
+        options.threads = 2;
+        options.max_iterations = 1;
+        options.error = error;
+        const FitResult result = fit_bysdf({target}, truth, options);
+        const double expected = error == FitError::Srgb       ? encoded
+                                : error == FitError::Relative ? linear / target_square
+                                                              : linear;
+        EXPECT_NEAR(result.initial_error, expected, 1e-6 * expected) << fit_error_name(error);
+    }
+    EXPECT_EQ(fit_error_from_name("srgb", "--error"), FitError::Srgb);
+    EXPECT_EQ(fit_error_from_name("relative", "--error"), FitError::Relative);
+    EXPECT_THROW(fit_error_from_name("log", "--error"), InputError);
 }
 
 std::vector<float> render_model(const SceneDesc& scene, YarnModel model, int spp, uint64_t seed) {
