@@ -13,11 +13,12 @@ and for `wool` (the gabardine fibers, a wool twill, on a 4-ply knitting-yarn lay
      model that does not copy each fiber can go;
   3. fits the BYSDF to the front-lit and back-lit references with `purl fit`: every lobe's
      effective albedo (axS, ayS, axB, ayB: no direction that changes nothing), both
-     extinctions and the three roughnesses, 17 unknowns, in linear RGB or as `--error` says
-     (docs/fitting.md compares them);
+     extinctions and the three roughnesses, 17 unknowns, each target's error relative to its
+     own mean square (`--error`; docs/fitting.md compares the measures); where a value on a
+     bound is not the optimum (step 4), fits again from the better point;
   4. checks each unknown left on a bound: the fit's objective with it moved inward by 5 % of
-     its range is worse (the optimum lies on the bound), better (reported: not converged there)
-     or equal (undetermined: the images do not depend on it; a scalar goes back to its start);
+     its range is worse (the optimum lies on the bound), better (the fit had stalled against
+     the bound: step 3 starts again from there, at most MAX_RESTARTS times) or equal (undetermined: the images do not depend on it; a scalar goes back to its start);
   5. checks the fit without refitting: renders front, back and front+back lighting with the
      fitted BYSDF and compares with the explicit-fiber references and with explicit-ply renders
      of the fitted material: mean squared error and FLIP (PyPI flip-evaluator, LDR-FLIP on the
@@ -62,7 +63,7 @@ REFERENCE_SPP, REFERENCE_SEED = 256, 1  # per yarn seed
 YARN_SEEDS = 8           # fiber placements averaged into each reference
 LONE_SEED, LONE_SPP = YARN_SEEDS + 1, 1024  # the one yarn compared with their mean (the floor)
 CHECK_SPP, CHECK_SEED = 128, 2
-FIT_SPP, FIT_SEED, FIT_ITERATIONS, FIT_BLOCK, FIT_ERROR = 8, 7, 20, 2, "linear"
+FIT_SPP, FIT_SEED, FIT_ITERATIONS, FIT_BLOCK, FIT_ERROR = 8, 7, 20, 2, "relative"
 # What the Blender preset menu shows (addon/presets.py): a readable name and one line in an
 # artist's words; the fit's own record is in "provenance". Names not listed keep the label and
 # description their file already has.

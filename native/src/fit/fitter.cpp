@@ -80,7 +80,7 @@ public:
             // Each target's weighted MSE (of block means) enters with weight 1 / (number of targets);
             // relative: divided by the target's own mean square, so a dim target counts as much as
             // a bright one.
-            double norm = 1.0 / (3.0 * total_weight * double(targets_.size()));
+            const double norm = 1.0 / (3.0 * total_weight * double(targets_.size()));
             double scale = 1.0;
             if (options_.error == FitError::Relative) {
                 double square = 0;

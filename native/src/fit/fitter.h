@@ -1,7 +1,7 @@
 // Fits BYSDF parameters so that renders of one or more target scenes match their images.
 //
 // Objective: the pixel-wise mean squared error of the Combined RGB (optionally of b x b block
-// means; linear, or sRGB-encoded and clamped: FitError), weighted by each target's mask, averaged over the targets (so front-lit and back-lit images count alike whatever
+// means; linear, relative or sRGB-encoded: FitError), weighted by each target's mask, averaged over the targets (so front-lit and back-lit images count alike whatever
 // their size). Optimiser: Levenberg-Marquardt on the per-pixel residuals, with forward-
 // difference Jacobians. Every render uses the same seed and sample count (common random
 // numbers), so the objective is a deterministic, nearly smooth function of the parameters

@@ -44,6 +44,17 @@ FitTarget synthetic_target(const std::string& lighting, const BysdfParams& truth
     return t;
 }
 
+// The tests' fits: 8 spp, seed 3 (the synthetic targets' own), two threads.
+FitOptions small_fit(const char* unknowns, int iterations) {
+    FitOptions options;
+    options.unknowns = parse_fit_parameters(unknowns, "test");
+    options.spp = 8;
+    options.seed = 3;
+    options.threads = 2;
+    options.max_iterations = iterations;
+    return options;
+}
+
 float max_channel_sum(const LobeEnergies& e) {
     auto m = [](Vec3 v) { return std::max(v.x, std::max(v.y, v.z)); };
     return std::max(m(e.e[0]), m(e.e[1])) + m(e.e[2]) + m(e.e[3]);
@@ -124,14 +135,9 @@ TEST(Fit, RecoversKnownParametersWithinFivePercent) {
     start.body_reflection_albedo = Vec3(0.3f, 0.3f, 0.3f);
     start.body_transmission_albedo = Vec3(0.4f, 0.4f, 0.4f);
     start.sigma_t_body = 0.2f;
-    FitOptions options;
     // r and the albedos are not independent (r k_x^B and (1 - r) k_y^B scale the body lobes), so
     // the identifiable set is the two albedos.
-    options.unknowns = parse_fit_parameters("kxB,kyB,sigma_t", "test");
-    options.spp = 8;
-    options.seed = 3;
-    options.threads = 2;
-    options.max_iterations = 5;
+    FitOptions options = small_fit("kxB,kyB,sigma_t", 5);
     options.progress = [](const FitProgress& p) {
         std::printf("  iteration %d %s mse %.4g renders %d %.1f s\n", p.iteration, p.event.c_str(), p.error,
                     p.renders, p.seconds);
@@ -172,12 +178,7 @@ TEST(Fit, SrgbErrorComparesEncodedClampedValues) {
     for (float v : target.rgb) target_square += double(v) * v;
     target_square /= double(target.rgb.size());
     for (FitError error : {FitError::Linear, FitError::Relative, FitError::Srgb}) {
-        FitOptions options;
-        options.unknowns = parse_fit_parameters("sigma_t", "test");
-        options.spp = 8;
-        options.seed = 3;
-        options.threads = 2;
-        options.max_iterations = 1;
+        FitOptions options = small_fit("sigma_t", 1);
         options.error = error;
         const FitResult result = fit_bysdf({target}, truth, options);
         const double expected = error == FitError::Srgb       ? encoded
