@@ -76,6 +76,17 @@ def test_one_and_two_threads_give_bit_identical_images():
     assert images[0].tobytes() == images[1].tobytes() == images[2].tobytes()
 
 
+@pytest.fixture
+def sigint_raises():
+    """Python's own Ctrl+C handler for the test: a shell that starts the suite in the background
+    (`cmd &`) starts it with SIGINT ignored, and Python then installs no handler, so the signal
+    the tests send would be dropped and the render of minutes would run to its end."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+@pytest.mark.usefixtures("sigint_raises")
 def test_ctrl_c_interrupts_render():
     # A render of minutes; SIGINT from another thread once it runs. purlcore.render checks
     # Python's signals between waits of 0.1 s, cancels the render and raises KeyboardInterrupt.
@@ -95,6 +106,7 @@ def test_ctrl_c_interrupts_render():
     sender.join()
 
 
+@pytest.mark.usefixtures("sigint_raises")
 def test_ctrl_c_interrupts_wait_of_a_job():
     job = purlcore.RenderJob(scene(200, 200, 1 << 16), {"knit": yarn_arrays()})
     job.start()
