@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "base/input_error.h"
+#include "math/vec.h"
 #include "render/renderer.h"
 
 namespace purl {
@@ -109,8 +110,7 @@ public:
 private:
     double encoded(double linear) const {
         if (options_.error != FitError::Srgb) return linear;
-        const double v = std::clamp(linear, 0.0, 1.0);
-        return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+        return srgb_encode(float(std::min(linear, 1.0)));
     }
 
     const std::vector<FitTarget>& targets_;
@@ -149,16 +149,35 @@ std::vector<float> render_target(const FitTarget& target, const BysdfParams& par
     return rgb;
 }
 
+namespace {
+
+struct FitErrorInfo {
+    FitError error;
+    const char* name;
+    const char* compared;  // what the objective's squared differences are of
+};
+constexpr FitErrorInfo kFitErrors[] = {
+    {FitError::Linear, "linear", "linear RGB"},
+    {FitError::Relative, "relative", "linear RGB over each target's own mean square"},
+    {FitError::Srgb, "srgb", "sRGB-encoded RGB clamped to [0, 1]"},
+};
+
+const FitErrorInfo& info(FitError error) {
+    for (const FitErrorInfo& i : kFitErrors)
+        if (i.error == error) return i;
+    return kFitErrors[0];
+}
+
+}  // namespace
+
 FitError fit_error_from_name(const std::string& name, const std::string& where) {
-    if (name == "linear") return FitError::Linear;
-    if (name == "relative") return FitError::Relative;
-    if (name == "srgb") return FitError::Srgb;
+    for (const FitErrorInfo& i : kFitErrors)
+        if (name == i.name) return i.error;
     throw InputError(where, "", "unknown error measure '" + name + "' (linear, relative or srgb)");
 }
 
-const char* fit_error_name(FitError error) {
-    return error == FitError::Srgb ? "srgb" : error == FitError::Relative ? "relative" : "linear";
-}
+const char* fit_error_name(FitError error) { return info(error).name; }
+const char* fit_error_compared(FitError error) { return info(error).compared; }
 
 double target_error(const FitTarget& target, const std::vector<float>& rgb) {
     const size_t pixels = size_t(target.width) * target.height;

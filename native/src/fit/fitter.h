@@ -37,6 +37,7 @@ struct FitProgress {
 enum class FitError { Linear, Relative, Srgb };
 FitError fit_error_from_name(const std::string& name, const std::string& where);  // "linear" | "relative" | "srgb"
 const char* fit_error_name(FitError error);
+const char* fit_error_compared(FitError error);  // "linear RGB", ...: what the objective compares
 
 struct FitOptions {
     std::vector<FitUnknown> unknowns;

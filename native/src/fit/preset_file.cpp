@@ -40,14 +40,6 @@ void put_params(json& out, const std::vector<ParamInfo>& table, const Params& p,
     }
 }
 
-const char* objective_of(FitError error) {
-    switch (error) {
-        case FitError::Relative: return "linear RGB over each target's own mean square";
-        case FitError::Srgb: return "sRGB-encoded RGB clamped to [0, 1]";
-        default: return "linear RGB";
-    }
-}
-
 }  // namespace
 
 json bysdf_material_json(const MaterialDesc& m) {
@@ -85,7 +77,7 @@ json fit_preset_json(const std::string& name, const MaterialDesc& base, const Fi
         {"material", bysdf_material_json(fitted)},
         {"provenance",
          {{"tool", "purl fit"},
-          {"objective", std::string("mean squared error of ") + objective_of(options.error) +
+          {"objective", std::string("mean squared error of ") + fit_error_compared(options.error) +
                             " (of block x block pixel means), averaged over the targets"},
           {"error", fit_error_name(options.error)},
           {"targets", targets},

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "base/input_error.h"
+#include "math/vec.h"
 
 namespace purl {
 
@@ -95,15 +96,6 @@ void check_output_path(const std::string& path, const std::string& option, bool 
     close(fd);
     unlink(probe.c_str());
 }
-
-namespace {
-
-float srgb_encode(float linear) {
-    linear = std::max(0.0f, linear);
-    return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
-
-}  // namespace
 
 void write_multilayer_exr(const std::string& path, const RenderImage& image, const std::string& layer) {
     std::vector<std::string> names;

@@ -55,6 +55,11 @@ inline float average(Vec3 a) { return (a.x + a.y + a.z) * (1.0f / 3.0f); }
 inline bool is_finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 inline bool is_black(Vec3 a) { return a.x == 0 && a.y == 0 && a.z == 0; }
 inline float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+// The sRGB transfer function of a linear value (negative as 0; not clamped above 1).
+inline float srgb_encode(float linear) {
+    linear = std::max(0.0f, linear);
+    return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
 inline Vec3 lerp(Vec3 a, Vec3 b, float t) { return a * (1 - t) + b * t; }
 
 // Control point as Embree's round curves read it: position and radius.
