@@ -128,6 +128,9 @@ MultiscaleMode MultiscaleSelector::choose(const AzimuthalFootprint& f, const Yar
     const float pixel_width = settings_.footprint_scale > 0 ? f.raw_width / settings_.footprint_scale : 0.0f;
     if (f.covers_yarn() || pixel_width >= 2 * settings_.far_limit) return MultiscaleMode::Far;
     if (f.width() < settings_.near_limit * fiber_feature_width(d)) return MultiscaleMode::Near;
+    // A yarn many pixels wide: its pixel samples land on different fibers anyway, and cost
+    // less than multi's traced h samples (docs/multiscale.md, production tier).
+    if (settings_.near_pixels > 0 && pixel_width * settings_.near_pixels <= 2.0f) return MultiscaleMode::Near;
     return MultiscaleMode::Multi;
 }
 

@@ -63,9 +63,9 @@ public:
     using WarningSink = std::function<void(const std::string&)>;
     // An empty sink prints to stderr. `yarn_sets`: how many far-field tables to keep at hand.
     explicit MultiscaleSelector(const MultiscaleSettings& settings, WarningSink sink = {}, size_t yarn_sets = 0);
-    // Near, Multi or Far. Auto: near without a valid footprint or below near_limit fibers,
-    // far when the footprint reaches both silhouettes or one pixel spans far_limit yarn
-    // diameters, multi otherwise.
+    // Near, Multi or Far. Auto: near without a valid footprint, below near_limit fibers or on
+    // yarns at least near_pixels wide, far when the footprint reaches both silhouettes or one
+    // pixel spans far_limit yarn diameters, multi otherwise.
     MultiscaleMode choose(const AzimuthalFootprint& f, const YarnDescription& d) const;
     bool warned() const { return warned_.load(std::memory_order_relaxed); }
     const MultiscaleSettings& settings() const { return settings_; }

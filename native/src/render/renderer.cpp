@@ -19,6 +19,7 @@
 #include "render/denoising_features.h"
 #include "render/film.h"
 #include "render/path_regularization.h"
+#include "render/ray_cone.h"
 #include "render/render_origin.h"
 #include "render/shading.h"
 #include "base/input_error.h"
@@ -209,6 +210,8 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
         float min_bounce_pdf = std::numeric_limits<float>::infinity();  // path regularisation
         int depth = 0, pass_throughs = 0, light_pass_throughs = 0;
         DenoisingPath features;
+        RayCone cone = RayCone::from_camera(ray);
+        Vec3 cone_origin = ray.origin;  // where `cone` has its width
         while (depth < settings.max_depth) {
             SurfaceHit hit;
             ++totals.rays;
@@ -253,7 +256,9 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             // shaded by the multi-scale selector; deeper rays shade near.
             MultiscaleHitContext camera_hit;
             if (depth == 0) camera_hit = {&multiscale, hit_rng.next_float(), hit_rng.next_float()};
-            SurfaceInteraction si = shader_->shade(hit, ray, depth == 0 ? &camera_hit : nullptr);
+            const float cone_distance = length(hit.position - cone_origin);
+            SurfaceInteraction si =
+                shader_->shade(hit, ray, depth == 0 ? &camera_hit : nullptr, cone.width_at(cone_distance));
             if (si.multiscale_hit) {
                 ++totals.hits_by_mode[si.multiscale_mode == MultiscaleMode::Far     ? 2
                                       : si.multiscale_mode == MultiscaleMode::Multi ? 1
@@ -322,6 +327,8 @@ void Renderer::render_pixel(int px, int py, const RenderSettings& settings, cons
             ray = Ray();
             ray.origin = exit.origin;
             ray.direction = bs->wi;
+            cone.scatter(cone_distance, hit.kind == SurfaceKind::Yarn && hit.radius > 0 ? 1.0f / hit.radius : 0.0f);
+            cone_origin = ray.origin;
         }
         albedo_sum += features.albedo();
         denoising_normal_sum += features.normal();

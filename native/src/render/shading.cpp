@@ -17,6 +17,9 @@ namespace purl {
 
 namespace {
 
+// Bounce hits whose ray cone is at least this many ply radii wide take the circular method.
+constexpr float kCoarseConePlies = 1.0f;
+
 // The origin of a ray leaving a tube at `exit`, a point on its wall found by a search along
 // the ray, whose centre-line parameter is (segment, t): the point is put back on the wall
 // (the search stops within a tolerance of it) and moved off by the wall's float error.
@@ -135,6 +138,8 @@ void SurfaceShader::recolor_bysdf(const BysdfParams& material, const std::vector
 
 SurfaceShader::SurfaceShader(const SceneDesc& scene) : scene_(scene) {
     ply_trace_.cross_section = scene.render.ply_method;
+    coarse_trace_ = ply_trace_;
+    coarse_trace_.cross_section = PlyCrossSection::circular;
     uint32_t key = 0;
     for (const YarnSetDesc& set : scene.yarns) {
         curve_key_base_.push_back(key);
@@ -193,7 +198,8 @@ size_t SurfaceShader::memory_bytes() const {
     return bytes;
 }
 
-SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext* multiscale) const {
+SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext* multiscale,
+                                        float cone_width) const {
     SurfaceInteraction out;
     ShadingPoint& sp = out.point;
     const Vec3 wo = -ray.direction;
@@ -225,8 +231,11 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
         out.h_samples = 1;  // near unless the selector says otherwise
         if (shade_multiscale(hit, ray, *multiscale, tube_hit, out)) return out;
     }
+    // A bounce ray whose cone spans a ply averages the plies' exact shapes away: the cheap
+    // circular cross-section finds its ply (docs/benchmarks.md measures what it changes).
+    const bool coarse = !multiscale && cone_width >= kCoarseConePlies * m.yarn.ply_radius * hit.radius;
     const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, data.yarn_twist[hit.curve], *data.maps, tube_hit,
-                                              curve_key_base_[hit.object] + hit.curve, ply_trace_);
+                                              curve_key_base_[hit.object] + hit.curve, coarse ? coarse_trace_ : ply_trace_);
     if (!y.hit) {
         pass_through(hit, ray, frames, y.exit_distance, out);
         return out;

@@ -93,8 +93,10 @@ class SurfaceShader {
 public:
     explicit SurfaceShader(const SceneDesc& scene);
     ~SurfaceShader();
-    // `multiscale`: only for camera rays (with differentials); deeper rays shade near.
-    SurfaceInteraction shade(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext* multiscale = nullptr) const;
+    // `multiscale`: only for camera rays (with differentials); deeper rays shade near, with
+    // their ray cone's width at the hit (render/ray_cone.h, m) choosing how exactly to find the ply.
+    SurfaceInteraction shade(const SurfaceHit& hit, const Ray& ray, const MultiscaleHitContext* multiscale = nullptr,
+                             float cone_width = 0) const;
     size_t memory_bytes() const;  // frames and maps
 
 private:
@@ -133,7 +135,8 @@ private:
     const SceneDesc& scene_;
     std::vector<YarnSetData> yarn_sets_;
     std::vector<uint32_t> curve_key_base_;
-    PlyTraceOptions ply_trace_;  // render.ply_method
+    PlyTraceOptions ply_trace_;     // render.ply_method
+    PlyTraceOptions coarse_trace_;  // bounce rays with wide cones
 };
 
 }  // namespace purl

@@ -38,6 +38,10 @@ std::vector<ParamInfo> build_table() {
         scalar("multiscale_near_limit", "fibers", 0.0f, 64.0f, 1.0f,
                "Auto mode shades the near field when the footprint covers fewer fiber diameters than this.",
                offsetof(MultiscaleSettings, near_limit)),
+        scalar("multiscale_near_pixels", "px", 0.0f, 1024.0f, 4.0f,
+               "Auto mode shades the near field on yarns at least this many pixels wide: the pixel resolves "
+               "their plies, and pixel samples average their fibers as cheaply as traced h samples (0: off).",
+               offsetof(MultiscaleSettings, near_pixels)),
         scalar("multiscale_far_limit", "yarns", 0.25f, 64.0f, 1.0f,
                "Auto mode shades the tabulated far field when one pixel spans at least this many yarn diameters.",
                offsetof(MultiscaleSettings, far_limit)),

@@ -26,6 +26,7 @@ struct MultiscaleSettings {
     float max_h_samples;     // whole number 1..16: most h samples per hit
     float sample_spacing;    // fiber diameters of footprint per h sample
     float near_limit;        // auto: near field below this many fiber diameters of footprint
+    float near_pixels;       // auto: near field on yarns at least this many pixels wide
     float far_limit;         // auto: far field when a pixel spans at least this many yarn diameters
 };
 

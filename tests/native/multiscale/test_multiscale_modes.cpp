@@ -24,7 +24,10 @@ TEST(MultiscaleModes, AutoPicksByFootprint) {
     const YarnDescription d = default_yarn_description();
     const float fiber = fiber_feature_width(d);
     EXPECT_NEAR(fiber, 2 * d.fiber_radius * d.ply_radius, 1e-7f);
-    const MultiscaleSelector auto_mode(default_multiscale_settings());
+    // By fibers under the footprint alone (near_pixels off):
+    MultiscaleSettings by_fibers = default_multiscale_settings();
+    by_fibers.near_pixels = 0;
+    const MultiscaleSelector auto_mode(by_fibers);
     EXPECT_EQ(auto_mode.choose(AzimuthalFootprint{}, d), MultiscaleMode::Near);  // no differentials
     EXPECT_EQ(auto_mode.choose(footprint(0.0f, 0.5f * fiber), d), MultiscaleMode::Near);
     EXPECT_EQ(auto_mode.choose(footprint(0.0f, 1.5f * fiber), d), MultiscaleMode::Multi);
@@ -34,7 +37,7 @@ TEST(MultiscaleModes, AutoPicksByFootprint) {
     EXPECT_EQ(auto_mode.choose(footprint(0.999f, 1.6f * fiber), d), MultiscaleMode::Near);  // 0.8 fiber
     // A pixel as wide as the yarn (far_limit 1) is far even where its footprint ends inside the yarn.
     EXPECT_EQ(auto_mode.choose(footprint(0.8f, 2.0f), d), MultiscaleMode::Far);
-    MultiscaleSettings s = default_multiscale_settings();
+    MultiscaleSettings s = by_fibers;
     s.far_limit = 2;
     EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.8f, 2.0f), d), MultiscaleMode::Multi);
     s.far_limit = 0.5f;  // half a yarn per pixel
@@ -42,6 +45,24 @@ TEST(MultiscaleModes, AutoPicksByFootprint) {
     s.footprint_scale = 2;  // the limit is per pixel, not per (scaled) footprint
     EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.0f, 1.0f), d), MultiscaleMode::Multi);
     EXPECT_FALSE(auto_mode.warned());
+}
+
+TEST(MultiscaleModes, AutoShadesYarnsManyPixelsWideNear) {
+    const YarnDescription d = default_yarn_description();
+    const float fiber = fiber_feature_width(d);
+    const MultiscaleSettings defaults = default_multiscale_settings();
+    ASSERT_EQ(defaults.near_pixels, 4.0f);
+    const MultiscaleSelector auto_mode(defaults);
+    // raw_width is the pixel's share of the yarn's diameter (2): a yarn 2 / raw_width pixels wide.
+    EXPECT_EQ(auto_mode.choose(footprint(0.0f, 1.5f * fiber), d), MultiscaleMode::Near);  // many pixels
+    EXPECT_EQ(auto_mode.choose(footprint(0.0f, 0.45f), d), MultiscaleMode::Near);  // 4.4 pixels
+    EXPECT_EQ(auto_mode.choose(footprint(0.0f, 0.55f), d), MultiscaleMode::Multi);  // 3.6 pixels
+    EXPECT_EQ(auto_mode.choose(footprint(0.3f, 1.9f), d), MultiscaleMode::Multi);  // about a pixel
+    MultiscaleSettings s = defaults;
+    s.footprint_scale = 2;  // the width is in pixels, not in (scaled) footprints
+    EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.0f, 0.9f), d), MultiscaleMode::Near);
+    s.near_pixels = 8;
+    EXPECT_EQ(MultiscaleSelector(s).choose(footprint(0.0f, 0.9f), d), MultiscaleMode::Multi);
 }
 
 TEST(MultiscaleModes, ForcedFarWarnsOnceOnYarnsWiderThanAPixel) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "render/camera.h"
+#include "render/ray_cone.h"
 
 using namespace purl;
 
@@ -124,4 +125,22 @@ TEST(Camera, PixelAspectChangesAutoFit) {
     // the sensor width spans the (corrected) height.
     const Camera cam(camera_at_origin(), film(640, 480, 1, 2));
     expect_projects(cam, {1, 0, -5}, 320 + 50.0f / 36 * 0.2f * 960, 240);
+}
+
+// The ray cone starts one pixel wide in angle: 36 mm over 640 px at 50 mm is 1.125e-3 rad at the
+// centre. Scattering off a cylinder of radius R adds 2 w / R to its spread.
+TEST(RayCone, StartsAtOnePixelAndCurvedSurfacesSpreadIt) {
+    const Camera cam(camera_at_origin(), film(640, 480));
+    RayCone cone = RayCone::from_camera(cam.generate_ray(320, 240));
+    EXPECT_NEAR(cone.spread, 36.0f / 50.0f / 640.0f, 1e-6f);
+    EXPECT_EQ(cone.width, 0.0f);
+    EXPECT_NEAR(cone.width_at(4.0f), 4.0f * cone.spread, 1e-7f);
+    const float spread = cone.spread;
+    cone.scatter(4.0f, 1.0f / 0.01f);  // a 1 cm tube, 4 m away
+    EXPECT_NEAR(cone.width, 4.0f * spread, 1e-7f);
+    EXPECT_NEAR(cone.spread, spread + 2 * cone.width / 0.01f, 1e-5f);
+    cone.scatter(1.0f, 0.0f);  // a plane keeps the angle
+    EXPECT_NEAR(cone.spread, spread + 2 * 4.0f * spread / 0.01f, 1e-5f);
+    Ray no_differentials;
+    EXPECT_EQ(RayCone::from_camera(no_differentials).spread, 0.0f);
 }

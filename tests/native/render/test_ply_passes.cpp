@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "render/renderer.h"
+#include "render/shading.h"
+#include "scene/embree_scene.h"
 #include "scene/scene_json.h"
 
 namespace purl {
@@ -110,6 +112,44 @@ TEST(PlyPasses, PlyMethodChoosesTheSearch) {
     };
     EXPECT_GE(agreement(local), 0.99);
     EXPECT_LT(agreement(circular), 0.95);
+}
+
+// A bounce ray (no multi-scale context) whose cone at the hit spans a ply radius or more finds
+// its ply by the circular cross-section; a narrower one by the scene's method. Rays from the
+// oblique camera of the test above, shaded as bounces.
+TEST(PlyPasses, BounceConeChoosesTheSearch) {
+    const SceneDesc exact_scene = straight_yarn_scene(1.0f, "elliptical");
+    const SceneDesc circular_scene = straight_yarn_scene(1.0f, "circular");
+    const EmbreeScene geometry(exact_scene);
+    const SurfaceShader exact(exact_scene), circular(circular_scene);
+    const YarnDescription& d = exact_scene.yarns[0].material.yarn;
+    const float ply_width = d.ply_radius * kRadius;  // m: the cone width where bounces turn circular
+    const Vec3 eye(1.0f, -1.2f, 0.0f);
+    int hits = 0, wide_as_circular = 0, narrow_as_exact = 0, circular_differs = 0;
+    for (int i = 0; i < 40; ++i) {
+        for (int j = 0; j < 8; ++j) {
+            Ray ray;
+            ray.origin = eye;
+            ray.direction = normalize(Vec3(-0.45f + 0.02f * i, 0.0f, -0.09f + 0.025f * j) - eye);
+            SurfaceHit hit;
+            if (!geometry.intersect(ray, hit)) continue;
+            ++hits;
+            const SurfaceInteraction e = exact.shade(hit, ray, nullptr, 0.9f * ply_width);
+            const SurfaceInteraction w = exact.shade(hit, ray, nullptr, 1.1f * ply_width);
+            const SurfaceInteraction c = circular.shade(hit, ray, nullptr, 0.0f);
+            const auto same = [](const SurfaceInteraction& a, const SurfaceInteraction& b) {
+                return a.pass_through == b.pass_through && a.ply_index == b.ply_index &&
+                       (a.pass_through || length(a.point.position - b.point.position) < 1e-6f);
+            };
+            wide_as_circular += same(w, c);
+            narrow_as_exact += same(e, exact.shade(hit, ray, nullptr, 0.0f));
+            circular_differs += !same(e, c);
+        }
+    }
+    ASSERT_GT(hits, 100);
+    EXPECT_EQ(wide_as_circular, hits);
+    EXPECT_EQ(narrow_as_exact, hits);
+    EXPECT_GT(circular_differs, hits / 20);  // the two searches do differ here, so the choice shows
 }
 
 }  // namespace
