@@ -32,7 +32,8 @@ const ChoiceList& material_models() {
 const ChoiceList& ply_methods() {
     static const ChoiceList list{
         "render.ply_method",
-        {{"elliptical", "Elliptical", "Exact ply search along the ray (the default)",
+        {{"elliptical", "Elliptical",
+          "Exact ply search along the ray (the default; bounce rays whose cone spans a ply use the circular cut)",
           float(PlyCrossSection::elliptical)},
          {"local", "Local",
           "The yarn straightened at each hit: about a fifth faster, exact on straight yarns, drifts on tight bends",

@@ -168,7 +168,9 @@ TEST(MultiscaleImages, FootprintLimitsGiveNearAndFar) {
     const double d_far = relative_rmse(wide.rgb, far.rgb), mean_ratio = image_mean(far.rgb) / image_mean(wide.rgb);
     std::printf(" multi, footprint 16 px vs far (table): relative RMSE %.3f, mean ratio %.4f\n", d_far, mean_ratio);
     EXPECT_LT(d_far, 0.22);  // the mid view's tolerance against its own references
-    EXPECT_NEAR(mean_ratio, 1.0, 0.03);
+    // Measured 0.970: the table is darker (docs/multiscale.md); 0.974 before bounce hits with
+    // wide ray cones took the circular ply cut, which shifts the two models' bounces unequally.
+    EXPECT_NEAR(mean_ratio, 1.0, 0.035);
     EXPECT_GT(max_pixel_difference(near.rgb, far.rgb), 0.1);  // and far is not near here
 }
 

@@ -1,6 +1,7 @@
 // The circular method (Zhu et al. 2023, the prototype): plies frozen in the perpendicular
-// cross-section at the tube hit, the ray projected into it. For comparison, and the exact
-// method's fallback for a ply whose crossing does not converge. In a header: small, and a call
+// cross-section at the tube hit, the ray projected into it. For comparison, for bounce rays
+// whose cone spans a ply (render/shading.cpp), and the exact method's fallback for a ply
+// whose crossing does not converge. In a header: small, and a call
 // into another file cost it 0.4 % more instructions.
 #pragma once
 #include <algorithm>
