@@ -6,7 +6,7 @@
 // Rough lobes spread it more; leaving that out keeps the cone narrow, so the estimate errs
 // towards more detail.
 #pragma once
-#include <cmath>
+#include <algorithm>
 
 #include "math/ray.h"
 

@@ -232,7 +232,7 @@ SurfaceInteraction SurfaceShader::shade(const SurfaceHit& hit, const Ray& ray, c
         if (shade_multiscale(hit, ray, *multiscale, tube_hit, out)) return out;
     }
     // A bounce ray whose cone spans a ply averages the plies' exact shapes away: the cheap
-    // circular cross-section finds its ply (docs/benchmarks.md measures what it changes).
+    // circular cross-section finds its ply (docs/implicit-geometry.md measures what it changes).
     const bool coarse = !multiscale && cone_width >= kCoarseConePlies * m.yarn.ply_radius * hit.radius;
     const YarnShadingPoint y = trace_yarn_hit(frames, m.yarn, data.yarn_twist[hit.curve], *data.maps, tube_hit,
                                               curve_key_base_[hit.object] + hit.curve, coarse ? coarse_trace_ : ply_trace_);

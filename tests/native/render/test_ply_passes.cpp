@@ -123,7 +123,7 @@ TEST(PlyPasses, BounceConeChoosesTheSearch) {
     const EmbreeScene geometry(exact_scene);
     const SurfaceShader exact(exact_scene), circular(circular_scene);
     const YarnDescription& d = exact_scene.yarns[0].material.yarn;
-    const float ply_width = d.ply_radius * kRadius;  // m: the cone width where bounces turn circular
+    const float ply_radius_m = d.ply_radius * kRadius;  // the cone width where bounces turn circular
     const Vec3 eye(1.0f, -1.2f, 0.0f);
     int hits = 0, wide_as_circular = 0, narrow_as_exact = 0, circular_differs = 0;
     for (int i = 0; i < 40; ++i) {
@@ -134,8 +134,8 @@ TEST(PlyPasses, BounceConeChoosesTheSearch) {
             SurfaceHit hit;
             if (!geometry.intersect(ray, hit)) continue;
             ++hits;
-            const SurfaceInteraction e = exact.shade(hit, ray, nullptr, 0.9f * ply_width);
-            const SurfaceInteraction w = exact.shade(hit, ray, nullptr, 1.1f * ply_width);
+            const SurfaceInteraction e = exact.shade(hit, ray, nullptr, 0.9f * ply_radius_m);
+            const SurfaceInteraction w = exact.shade(hit, ray, nullptr, 1.1f * ply_radius_m);
             const SurfaceInteraction c = circular.shade(hit, ray, nullptr, 0.0f);
             const auto same = [](const SurfaceInteraction& a, const SurfaceInteraction& b) {
                 return a.pass_through == b.pass_through && a.ply_index == b.ply_index &&
