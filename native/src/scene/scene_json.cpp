@@ -1,6 +1,7 @@
 #include "scene/scene_json.h"
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -341,7 +342,13 @@ MeshDesc read_mesh(JsonObject o, const std::string& base_dir, const ExternalArra
                 given.push_back({p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()});
             m.vertices.resize(given.size());
             for (const json& tri : t)
-                for (int k = 0; k < 3; ++k) m.indices.push_back(tri.at(k).get<uint32_t>());
+                for (int k = 0; k < 3; ++k) {
+                    // Only non-negative whole numbers: a float such as 2e31 does not convert to an index.
+                    const json& index = tri.at(k);
+                    if (!index.is_number_unsigned()) o.fail("triangles", "triangle indices must be whole numbers >= 0");
+                    const uint64_t i = index.get<uint64_t>();
+                    m.indices.push_back(i < given.size() ? static_cast<uint32_t>(i) : UINT32_MAX);  // checked below
+                }
         } catch (const json::exception&) {
             o.fail("vertices", "vertices must be [x,y,z] numbers and triangles [i,j,k] indices");
         }

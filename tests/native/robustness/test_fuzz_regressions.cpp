@@ -98,3 +98,13 @@ TEST(FuzzRegressions, BccCollapsedToOnePointIsAnError) {
     const std::string error = replay("bcc", bytes_of(kRegressions / "bcc" / "collapsed_to_one_point.bcc"));
     EXPECT_NE(error.find("is collapsed to one point"), std::string::npos) << error;
 }
+
+// fuzz_scene_json, CI run of 2026-12-06: a triangle index of 2.1e31 (a float) was converted to
+// uint32_t (undefined behaviour, UBSan). Indices must now be whole numbers.
+TEST(FuzzRegressions, TriangleIndexThatIsNoWholeNumberIsAnError) {
+    const std::string error =
+        replay("scene_json", bytes_of(kRegressions / "scene_json" / "triangle_index_float.json"));
+    EXPECT_NE(error.find("meshes[0].triangles: triangle indices must be whole numbers >= 0"),
+              std::string::npos)
+        << error;
+}
